@@ -1,0 +1,226 @@
+//! Integrators of the Euler–Poisson equations behind one interface.
+//!
+//! A [`Problem`] (fields and initial state), an integrator (a value of a type implementing
+//! [`Propagator`], configured with its tolerances) and an [`OutputGrid`] are separate values;
+//! [`Propagator::propagate_grid`] returns a [`Solution`]: the states at the grid times and the
+//! [`Stats`] of the run. One file per method; the runtime choice is [`MethodConfig`].
+
+mod dop853;
+mod dopri5;
+mod ode_solvers_adapter;
+mod rk4;
+
+pub use dop853::Dop853;
+pub use dopri5::Dopri5;
+pub use rk4::Rk4;
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::Serialize;
+
+use crate::error::DynamicsError;
+use crate::fields::Fields;
+use crate::scalar::Real;
+use crate::state::State;
+
+/// An initial-value problem: the fields and the state at t = 0.
+#[derive(Clone, Debug)]
+pub struct Problem<T> {
+    pub fields: Fields<T>,
+    pub initial: State<T>,
+}
+
+/// N sample times evenly spaced on [0, T] (N = 1: t = 0 only).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct OutputGrid {
+    pub t_end: f64,
+    pub samples: usize,
+}
+
+impl OutputGrid {
+    /// Checked constructor: T finite and ≥ 0, N ≥ 1 (N ≥ 2 when T > 0 is not needed: N = 1
+    /// samples t = 0 only).
+    pub fn new(t_end: f64, samples: usize) -> Result<Self, DynamicsError> {
+        if !t_end.is_finite() {
+            return Err(DynamicsError::Settings(format!(
+                "t-end must be a finite number, got {t_end}"
+            )));
+        }
+        if t_end < 0.0 {
+            return Err(DynamicsError::Settings(format!(
+                "t-end must be non-negative, got {t_end}"
+            )));
+        }
+        if samples == 0 {
+            return Err(DynamicsError::Settings(
+                "samples must be at least 1".to_string(),
+            ));
+        }
+        Ok(Self { t_end, samples })
+    }
+
+    /// Spacing of the samples (0 for a single sample).
+    pub fn spacing(&self) -> f64 {
+        if self.samples <= 1 {
+            0.0
+        } else {
+            self.t_end / (self.samples - 1) as f64
+        }
+    }
+
+    /// The k-th sample time, k·T/(N−1), computed without accumulation.
+    pub fn time(&self, k: usize) -> f64 {
+        if self.samples <= 1 {
+            0.0
+        } else if k + 1 == self.samples {
+            self.t_end
+        } else {
+            self.t_end * k as f64 / (self.samples - 1) as f64
+        }
+    }
+
+    pub fn times(&self) -> Vec<f64> {
+        (0..self.samples).map(|k| self.time(k)).collect()
+    }
+}
+
+/// Error control of adaptive methods.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Tolerances {
+    pub rtol: f64,
+    pub atol: f64,
+}
+
+impl Tolerances {
+    /// Checked constructor: both finite and positive.
+    pub fn new(rtol: f64, atol: f64) -> Result<Self, DynamicsError> {
+        for (name, v) in [("rtol", rtol), ("atol", atol)] {
+            if !v.is_finite() || v <= 0.0 {
+                return Err(DynamicsError::Settings(format!(
+                    "{name} must be a positive finite number, got {v}"
+                )));
+            }
+        }
+        Ok(Self { rtol, atol })
+    }
+}
+
+/// What a run cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Stats {
+    pub accepted_steps: u64,
+    pub rejected_steps: u64,
+    pub rhs_evals: u64,
+    /// Wall time of the integration alone (no set-up, no output formatting).
+    pub integration_seconds: f64,
+}
+
+/// States at the grid times.
+#[derive(Clone, Debug)]
+pub struct Solution<T> {
+    pub method: &'static str,
+    pub times: Vec<f64>,
+    pub states: Vec<State<T>>,
+    pub stats: Stats,
+}
+
+/// An integration method for the Euler–Poisson equations in scalar `T`.
+pub trait Propagator<T: Real> {
+    /// Name used on the command line and in reports.
+    fn name(&self) -> &'static str;
+    /// States at every time of `grid`, starting from `problem.initial` at t = 0.
+    fn propagate_grid(
+        &self,
+        problem: &Problem<T>,
+        grid: &OutputGrid,
+    ) -> Result<Solution<T>, DynamicsError>;
+}
+
+/// The methods that can be chosen at run time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MethodName {
+    Rk4,
+    Dopri5,
+    Dop853,
+}
+
+impl MethodName {
+    pub const ALL: [MethodName; 3] = [MethodName::Rk4, MethodName::Dopri5, MethodName::Dop853];
+
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            MethodName::Rk4 => Rk4::NAME,
+            MethodName::Dopri5 => Dopri5::NAME,
+            MethodName::Dop853 => Dop853::NAME,
+        }
+    }
+}
+
+impl fmt::Display for MethodName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for MethodName {
+    type Err = DynamicsError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.as_str() == s.to_ascii_lowercase())
+            .ok_or_else(|| {
+                let names: Vec<_> = Self::ALL.iter().map(|m| m.as_str()).collect();
+                DynamicsError::Settings(format!(
+                    "unknown method '{s}' (known: {})",
+                    names.join(", ")
+                ))
+            })
+    }
+}
+
+/// A method with its settings, chosen at run time.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MethodConfig {
+    pub method: MethodName,
+    pub tolerances: Tolerances,
+    /// Fixed step for non-adaptive methods (RK4); `None`: derived from the tolerance.
+    pub step: Option<f64>,
+}
+
+impl MethodConfig {
+    pub fn new(
+        method: MethodName,
+        tolerances: Tolerances,
+        step: Option<f64>,
+    ) -> Result<Self, DynamicsError> {
+        if let Some(h) = step {
+            if !h.is_finite() || h <= 0.0 {
+                return Err(DynamicsError::Settings(format!(
+                    "step must be a positive finite number, got {h}"
+                )));
+            }
+        }
+        Ok(Self {
+            method,
+            tolerances,
+            step,
+        })
+    }
+
+    /// Run the configured method in f64.
+    pub fn propagate_f64(
+        &self,
+        problem: &Problem<f64>,
+        grid: &OutputGrid,
+    ) -> Result<Solution<f64>, DynamicsError> {
+        match self.method {
+            MethodName::Rk4 => {
+                Rk4::from_tolerances(self.tolerances, self.step).propagate_grid(problem, grid)
+            }
+            MethodName::Dopri5 => Dopri5::new(self.tolerances).propagate_grid(problem, grid),
+            MethodName::Dop853 => Dop853::new(self.tolerances).propagate_grid(problem, grid),
+        }
+    }
+}

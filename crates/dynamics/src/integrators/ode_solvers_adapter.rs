@@ -1,0 +1,89 @@
+//! Glue between the project's interface and the `ode_solvers` crate (f64 only).
+
+use ode_solvers::{SVector, System};
+
+use crate::equations::VectorField;
+use crate::error::DynamicsError;
+use crate::state::{State, DIM};
+
+use super::{OutputGrid, Solution, Stats};
+
+pub(super) type Vector9 = SVector<f64, DIM>;
+
+/// The Euler–Poisson vector field as an `ode_solvers` system.
+pub(super) struct EulerPoissonSystem(pub VectorField<f64>);
+
+impl System<f64, Vector9> for EulerPoissonSystem {
+    fn system(&self, _t: f64, y: &Vector9, dy: &mut Vector9) {
+        self.0.eval_into(y.as_slice(), dy.as_mut_slice());
+    }
+}
+
+pub(super) fn to_vector(s: &State<f64>) -> Vector9 {
+    Vector9::from_column_slice(&s.to_array())
+}
+
+pub(super) fn to_state(v: &Vector9) -> State<f64> {
+    State::from_slice(v.as_slice())
+}
+
+pub(super) fn convert_stats(s: ode_solvers::dop_shared::Stats, seconds: f64) -> Stats {
+    Stats {
+        accepted_steps: u64::from(s.accepted_steps),
+        rejected_steps: u64::from(s.rejected_steps),
+        rhs_evals: u64::from(s.num_eval),
+        integration_seconds: seconds,
+    }
+}
+
+/// Match the dense output of an `ode_solvers` run (times accumulated as x₀ + dx + dx + …) to the
+/// grid: every grid time must have an output point within a relative 1e-9 of the spacing.
+/// The reported time is the one at which the solver evaluated its interpolant.
+pub(super) fn collect_dense(
+    method: &'static str,
+    grid: &OutputGrid,
+    xs: &[f64],
+    ys: &[Vector9],
+    stats: Stats,
+) -> Result<Solution<f64>, DynamicsError> {
+    let dx = grid.spacing();
+    let tol = 1e-9 * dx.max(f64::MIN_POSITIVE);
+    let mut times = Vec::with_capacity(grid.samples);
+    let mut states = Vec::with_capacity(grid.samples);
+    let mut j = 0;
+    for k in 0..grid.samples {
+        let t = grid.time(k);
+        while j < xs.len() && xs[j] < t - tol {
+            j += 1;
+        }
+        if j >= xs.len() || (xs[j] - t).abs() > tol {
+            return Err(DynamicsError::Integration(format!(
+                "{method}: no dense output at t = {t} (sample {k} of {})",
+                grid.samples
+            )));
+        }
+        times.push(xs[j]);
+        states.push(to_state(&ys[j]));
+        j += 1;
+    }
+    Ok(Solution {
+        method,
+        times,
+        states,
+        stats,
+    })
+}
+
+/// Solution of a grid with a single sample: the initial state, no work.
+pub(super) fn initial_only(method: &'static str, initial: &State<f64>) -> Solution<f64> {
+    Solution {
+        method,
+        times: vec![0.0],
+        states: vec![initial.clone()],
+        stats: Stats::default(),
+    }
+}
+
+/// Maximum number of steps allowed in one run (ode_solvers' default of 1e5 is too few for
+/// long validation runs at tight tolerances).
+pub(super) const MAX_STEPS: u32 = 200_000_000;
