@@ -196,3 +196,10 @@ mod tests {
         assert!((a.eps - (g(0.3 + h) - g(0.3 - h)) / (2.0 * h)).abs() < 1e-8);
     }
 }
+
+impl<T: Real> From<T> for Dual<T> {
+    /// A constant embedded as a dual number.
+    fn from(re: T) -> Self {
+        Self::constant(re)
+    }
+}

@@ -1,0 +1,201 @@
+//! The seed's explicit formulas, rewritten in x = 1/s₁, F₁* = F₁/s₁, G₁* = G₁/s₁ (the device of
+//! eq. 3.2): multiply numerator and denominator of each formula by the power of x that makes it
+//! polynomial. With D = 1 − x s₂ (so s₁ − s₂ = D/x; D ≥ 1 − b/a > 0) and
+//! Ψ* = xΨ = 4ms₂ − 2ℓ(1 + xs₂) + 2(p²m + h)x, nothing is singular when s₁ passes through ∞
+//! and nothing divides by m. Each function names the equation it implements; every formula is
+//! checked against the Euler–Poisson equations in the tests (see docs/closed-form.md for the
+//! corrections to the printed text).
+
+use rsts_dynamics::vec3::{Mat3, Vec3};
+use rsts_dynamics::Real;
+
+use crate::separated::SeparatedPoint;
+
+/// The constants the formulas use, in the evaluation scalar.
+#[derive(Clone, Debug)]
+pub struct FormulaConstants<S> {
+    pub a: S,
+    pub b: S,
+    pub m: S,
+    pub ell: S,
+    pub r: S,
+    /// p²m + h.
+    pub pmh: S,
+}
+
+/// The point (x, s₂, F₁*, G₁*, F₂, G₂) of N in separated variables.
+#[derive(Clone, Debug)]
+pub struct SeparatedCoordinates<S> {
+    pub x: S,
+    pub s2: S,
+    pub f1: S,
+    pub g1: S,
+    pub f2: S,
+    pub g2: S,
+}
+
+impl<S: Real> SeparatedCoordinates<S> {
+    pub fn new(first: SeparatedPoint<S>, second: SeparatedPoint<S>) -> Self {
+        Self {
+            x: first.v,
+            f1: first.f,
+            g1: first.g,
+            s2: second.v,
+            f2: second.f,
+            g2: second.g,
+        }
+    }
+}
+
+/// Everything the closed form gives at one point.
+#[derive(Clone, Debug)]
+pub struct ExplicitState<S> {
+    pub coords: SeparatedCoordinates<S>,
+    /// ω (eq. 1.4).
+    pub omega: Vec3<S>,
+    /// α (eq. 1.3).
+    pub alpha: Vec3<S>,
+    /// β (eq. 1.3).
+    pub beta: Vec3<S>,
+    /// γ (eq. 2.5).
+    pub gamma: Vec3<S>,
+    /// Ω (eq. 3.1).
+    pub omega_fixed: Vec3<S>,
+    /// Q′ (sec. 2).
+    pub q_prime: Mat3<S>,
+    /// Q″ (sec. 2).
+    pub q_second: Mat3<S>,
+    /// ω′ (eq. 2.6).
+    pub omega_prime: Vec3<S>,
+    /// ω″₍₁₎ (eq. 2.8).
+    pub omega_second_1: Vec3<S>,
+    /// ω″₍₂₎ (eq. 2.8).
+    pub omega_second_2: Vec3<S>,
+}
+
+impl<S: Real> ExplicitState<S> {
+    /// Q with rows α, β, γ.
+    pub fn orientation(&self) -> Mat3<S> {
+        [self.alpha.clone(), self.beta.clone(), self.gamma.clone()]
+    }
+}
+
+/// Evaluate all formulas at a point.
+pub fn explicit_state<S: Real>(
+    c: &FormulaConstants<S>,
+    p: SeparatedCoordinates<S>,
+) -> ExplicitState<S> {
+    let one = p.x.one_like();
+    let two = one.lit(2.0);
+    let four = one.lit(4.0);
+    let (a, b, m, ell, r) = (&c.a, &c.b, &c.m, &c.ell, &c.r);
+    let (x, s2, f1, g1, f2, g2) = (&p.x, &p.s2, &p.f1, &p.g1, &p.f2, &p.g2);
+    let a2 = a.square();
+    let b2 = b.square();
+    let d = one.clone() - x.clone() * s2;
+    let d2 = d.square();
+    // Ψ* = 4ms₂ − 2ℓ(1 + xs₂) + 2(p²m + h)x
+    let psi = four.clone() * m * s2 - two.clone() * ell * (one.clone() + x.clone() * s2)
+        + two.clone() * &c.pmh * x;
+    let g1g2 = g1.clone() * g2;
+    let f1f2 = f1.clone() * f2;
+    let sa = s2.clone() - a2.clone() * x; // (s₁s₂ − a²)·x
+    let sb = s2.clone() - b2.clone() * x; // (s₁s₂ − b²)·x
+    let two_a_d2 = two.clone() * a * &d2;
+    let two_b_d2 = two.clone() * b * &d2;
+    let two_ab_d2 = two.clone() * a * b * &d2;
+
+    // eq. (1.3)
+    let alpha = [
+        (sa.clone() * &psi + g1g2.clone() * &f1f2) / &two_a_d2,
+        (sa.clone() * &f1f2 - psi.clone() * &g1g2) / &two_a_d2,
+        r.clone() * g1 / (a.clone() * &d),
+    ];
+    let beta = [
+        (psi.clone() * &g1g2 - sb.clone() * &f1f2) / &two_b_d2,
+        (sb.clone() * &psi + g1g2.clone() * &f1f2) / &two_b_d2,
+        r.clone() * x * g2 / (b.clone() * &d),
+    ];
+    // eq. (1.4)
+    let omega = [
+        r.clone() * (ell.clone() * x - two.clone() * m) * f2 / (two.clone() * &d),
+        r.clone() * (ell.clone() - two.clone() * m * s2) * f1 / (two.clone() * &d),
+        -(g2.clone() * f1 + g1.clone() * f2) / &d,
+    ];
+    // eq. (2.5)
+    let gamma = [
+        -(r.clone() * (s2.clone() * g1 * &psi + g2.clone() * &f1f2)) / &two_ab_d2,
+        -(r.clone() * (s2.clone() * g1 * &f1f2 - g2.clone() * &psi)) / &two_ab_d2,
+        -(a2.clone() * s2 * x - &b2) / (two.clone() * a * b * &d),
+    ];
+    // eq. (3.1)
+    let omega_fixed = [
+        -(r.clone() * (g1.clone() * f1 * g2 - (a2.clone() * x * x + s2.clone() * x - &two) * f2))
+            / &two_a_d2,
+        -(r.clone()
+            * (x.clone() * &g1g2 * f2 + ((b2.clone() - two.clone() * s2 * s2) * x + s2) * f1))
+            / &two_b_d2,
+        -((b2.clone() + a2.clone() * (one.clone() - two.clone() * s2 * x)) * f1 * g2
+            - (a2.clone() * s2 * x - b2.clone() * (two.clone() - s2.clone() * x)) * g1 * f2)
+            / &two_ab_d2,
+    ];
+    // Q′ and Q″ (sec. 2)
+    let zero = one.zero_like();
+    let two_d = two.clone() * &d;
+    let q_prime = [
+        [
+            -(psi.clone()) / &two_d,
+            -(f1f2.clone()) / &two_d,
+            zero.clone(),
+        ],
+        [f1f2.clone() / &two_d, -(psi.clone()) / &two_d, zero.clone()],
+        [zero.clone(), zero.clone(), one.clone()],
+    ];
+    let abd = a.clone() * b * &d;
+    let q_second = [
+        [
+            b.clone() * (a2.clone() * x - s2) / &abd,
+            b.clone() * &g1g2 / &abd,
+            b.clone() * r * g1 / &abd,
+        ],
+        [
+            -(a.clone() * &g1g2) / &abd,
+            a.clone() * (b2.clone() * x - s2) / &abd,
+            a.clone() * r * x * g2 / &abd,
+        ],
+        [
+            r.clone() * g1 * s2 / &abd,
+            -(r.clone() * g2) / &abd,
+            (b2.clone() - a2.clone() * s2 * x) / &abd,
+        ],
+    ];
+    // eqs. (2.6), (2.8)
+    let omega_prime = [
+        zero.clone(),
+        zero.clone(),
+        -(f1.clone() * g2 + f2.clone() * g1) / &two_d,
+    ];
+    let omega_second_1 = [
+        zero.clone(),
+        r.clone() * f1 / &two_d,
+        -(f1.clone() * g2) / &two_d,
+    ];
+    let omega_second_2 = [
+        -(f2.clone() * r * x) / &two_d,
+        zero,
+        -(f2.clone() * g1) / &two_d,
+    ];
+    ExplicitState {
+        coords: p,
+        omega,
+        alpha,
+        beta,
+        gamma,
+        omega_fixed,
+        q_prime,
+        q_second,
+        omega_prime,
+        omega_second_1,
+        omega_second_2,
+    }
+}

@@ -1,0 +1,229 @@
+//! A motion on a Liouville torus of N: the two separated variables with the torus's signs, angle
+//! coordinates (ψ₁, ψ₂) that are linear in time, and the state at any time.
+
+use rsts_dynamics::dual::Dual;
+use rsts_dynamics::Real;
+use serde::Serialize;
+
+use crate::camera::Camera;
+use crate::constants::IntegralConstants;
+use crate::error::ClosedFormError;
+use crate::formulas::{explicit_state, ExplicitState, FormulaConstants, SeparatedCoordinates};
+use crate::roots::Root;
+use crate::separated::{segments, SeparatedVariable};
+
+/// Which torus and where on it the motion starts.
+///
+/// Torus numbering: for each free constant sign (the radical that keeps its sign on the torus,
+/// see [`SeparatedVariable::free_sign`]) bit 0 is the sign for x = 1/s₁ and the next bit the sign
+/// for s₂ (bit clear: +, set: −). Torus 0 has all free radicals positive.
+///
+/// Phases: ψᵢ ∈ [0, 2π) is the angle on the torus, ψᵢ = ψᵢ⁰ + νᵢ t; ψᵢ = 0 puts the variable at
+/// the lower end λ of its segment in the coordinate x = 1/s₁ (first) and s₂ (second). The
+/// defaults are torus 0 and ψ = (0, 0).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct TorusChoice {
+    pub torus: usize,
+    pub phase1: f64,
+    pub phase2: f64,
+}
+
+/// The closed-form motion on one torus.
+#[derive(Clone, Debug)]
+pub struct ExplicitMotion<T> {
+    pub constants: IntegralConstants<T>,
+    pub camera: Camera,
+    /// Number of Liouville tori of the integral manifold.
+    pub tori: usize,
+    pub choice: TorusChoice,
+    /// x = 1/s₁ with (F₁*, G₁*).
+    pub first: SeparatedVariable<T>,
+    /// s₂ with (F₂, G₂).
+    pub second: SeparatedVariable<T>,
+    /// u at t = 0 for each variable.
+    u0: [T; 2],
+    formula: FormulaConstants<T>,
+}
+
+type Segment<T> = (Root<T>, Root<T>);
+
+fn free_sign_of<T: Real>(
+    name: &'static str,
+    f: &crate::separated::Radicand<T>,
+    g: &crate::separated::Radicand<T>,
+    seg: &Segment<T>,
+    eps: i32,
+) -> Result<bool, ClosedFormError> {
+    Ok(SeparatedVariable::new(name, f, g, seg.clone(), eps, 1)?.free_sign)
+}
+
+impl<T: Real> ExplicitMotion<T> {
+    /// The motion for (a, b, m, h) on the chosen torus.
+    pub fn new(a: T, b: T, m: T, h: T, choice: TorusChoice) -> Result<Self, ClosedFormError> {
+        for (name, v) in [("phase1", choice.phase1), ("phase2", choice.phase2)] {
+            if !v.is_finite() {
+                return Err(ClosedFormError::Parameters(format!(
+                    "{name} is not a finite number"
+                )));
+            }
+        }
+        let constants = IntegralConstants::new(a, b, m, h)?;
+        let (f1, g1) = constants.radicands_x();
+        let (f2, g2) = constants.radicands_s2();
+        let seg1 = segments(&f1, &g1);
+        let seg2 = segments(&f2, &g2);
+        if seg1.is_empty() || seg2.is_empty() {
+            return Err(ClosedFormError::NotAdmissible(format!(
+                "no real motion: s1 has {} and s2 has {} oscillation segments",
+                seg1.len(),
+                seg2.len()
+            )));
+        }
+        // Enumerate (segment of x, segment of s2, free signs) in a fixed order.
+        let mut options = Vec::new();
+        for s1 in &seg1 {
+            let free1 = free_sign_of("x = 1/s1", &f1, &g1, s1, -1)?;
+            for s2 in &seg2 {
+                let free2 = free_sign_of("s2", &f2, &g2, s2, 1)?;
+                let n1 = if free1 { 2 } else { 1 };
+                let n2 = if free2 { 2 } else { 1 };
+                for j in 0..n1 * n2 {
+                    let sign1 = if j % n1 == 1 { -1 } else { 1 };
+                    let sign2 = if (j / n1) % n2 == 1 { -1 } else { 1 };
+                    options.push((s1.clone(), s2.clone(), sign1, sign2));
+                }
+            }
+        }
+        let tori = options.len();
+        let m_negative = constants.m < constants.m.zero_like();
+        let camera = {
+            let (s1, s2, _, _) = &options[0];
+            Camera::from_segments(
+                [s1.0.label, s1.1.label],
+                [s2.0.label, s2.1.label],
+                m_negative,
+            )
+            .ok_or_else(|| {
+                ClosedFormError::Internal(format!(
+                    "segments s1 ∈ [{}, {}], s2 ∈ [{}, {}] match no camera of Table 1",
+                    s1.0.label, s1.1.label, s2.0.label, s2.1.label
+                ))
+            })?
+        };
+        let Some((s1, s2, sign1, sign2)) = options.get(choice.torus).cloned() else {
+            return Err(ClosedFormError::NoSuchTorus {
+                torus: choice.torus,
+                camera: camera.label().to_string(),
+                tori,
+            });
+        };
+        let first = SeparatedVariable::new("x = 1/s1", &f1, &g1, s1, -1, sign1)?;
+        let second = SeparatedVariable::new("s2", &f2, &g2, s2, 1, sign2)?;
+        let formula = FormulaConstants {
+            a: constants.a.clone(),
+            b: constants.b.clone(),
+            m: constants.m.clone(),
+            ell: constants.ell.clone(),
+            r: constants.r.clone(),
+            pmh: constants.pmh.clone(),
+        };
+        let two_pi = T::pi(constants.a.prec()) * constants.a.lit(2.0);
+        let u0 = [
+            constants.a.lit(choice.phase1) * first.period_u() / &two_pi,
+            constants.a.lit(choice.phase2) * second.period_u() / &two_pi,
+        ];
+        Ok(Self {
+            constants,
+            camera,
+            tori,
+            choice,
+            first,
+            second,
+            u0,
+            formula,
+        })
+    }
+
+    fn vars(&self) -> [&SeparatedVariable<T>; 2] {
+        [&self.first, &self.second]
+    }
+
+    /// Angular frequencies νᵢ = dψᵢ/dt = 2π u̇ᵢ / Pᵢ.
+    pub fn frequencies(&self) -> [T; 2] {
+        let two_pi = T::pi(self.constants.a.prec()) * self.constants.a.lit(2.0);
+        self.vars()
+            .map(|v| two_pi.clone() * &v.u_dot / v.period_u())
+    }
+
+    /// Periods in time of the two angles, Pᵢ / u̇ᵢ.
+    pub fn periods(&self) -> [T; 2] {
+        self.vars().map(|v| v.period_u() / &v.u_dot)
+    }
+
+    /// Rotation number ν₁/ν₂ of the torus.
+    pub fn rotation_number(&self) -> T {
+        let [n1, n2] = self.frequencies();
+        n1 / n2
+    }
+
+    /// The parameters u₁, u₂ of the elliptic functions at time t.
+    fn u_at(&self, t: &T) -> [T; 2] {
+        let vars = self.vars();
+        std::array::from_fn(|i| self.u0[i].clone() + vars[i].u_dot.clone() * t)
+    }
+
+    /// (sn, cn, dn) of a variable at parameter u, reduced modulo the period 4K of sn.
+    fn elliptic(var: &SeparatedVariable<T>, u: &T) -> (T, T, T) {
+        let four_k = var.modulus.big_k.clone() * u.lit(4.0);
+        let n = (u.clone() / &four_k).floor();
+        let ur = u.clone() - n * &four_k;
+        var.modulus.sn_cn_dn(&ur)
+    }
+
+    /// The state at time t.
+    pub fn at(&self, t: &T) -> ExplicitState<T> {
+        let [u1, u2] = self.u_at(t);
+        self.at_u(&u1, &u2)
+    }
+
+    /// The state at the angles (ψ₁, ψ₂) on the torus.
+    pub fn at_angles(&self, psi1: &T, psi2: &T) -> ExplicitState<T> {
+        let two_pi = T::pi(self.constants.a.prec()) * self.constants.a.lit(2.0);
+        let u1 = psi1.clone() * self.first.period_u() / &two_pi;
+        let u2 = psi2.clone() * self.second.period_u() / &two_pi;
+        self.at_u(&u1, &u2)
+    }
+
+    fn at_u(&self, u1: &T, u2: &T) -> ExplicitState<T> {
+        let (sn1, cn1, _) = Self::elliptic(&self.first, u1);
+        let (sn2, cn2, _) = Self::elliptic(&self.second, u2);
+        let p1 = self.first.eval::<T>(&sn1, &cn1);
+        let p2 = self.second.eval::<T>(&sn2, &cn2);
+        explicit_state(&self.formula, SeparatedCoordinates::new(p1, p2))
+    }
+
+    /// The state at time t with its time derivative (dual parts), by the chain rule through the
+    /// separated variables: d sn/dt = u̇ cn dn, d cn/dt = −u̇ sn dn.
+    pub fn at_with_derivative(&self, t: &T) -> ExplicitState<Dual<T>> {
+        let [u1, u2] = self.u_at(t);
+        let point = |var: &SeparatedVariable<T>, u: &T| {
+            let (sn, cn, dn) = Self::elliptic(var, u);
+            let sn_d = Dual::new(sn.clone(), var.u_dot.clone() * &cn * &dn);
+            let cn_d = Dual::new(cn, -(var.u_dot.clone() * &sn * &dn));
+            var.eval::<Dual<T>>(&sn_d, &cn_d)
+        };
+        let p1 = point(&self.first, &u1);
+        let p2 = point(&self.second, &u2);
+        let f = &self.formula;
+        let lift = |x: &T| Dual::constant(x.clone());
+        let fc = FormulaConstants {
+            a: lift(&f.a),
+            b: lift(&f.b),
+            m: lift(&f.m),
+            ell: lift(&f.ell),
+            r: lift(&f.r),
+            pmh: lift(&f.pmh),
+        };
+        explicit_state(&fc, SeparatedCoordinates::new(p1, p2))
+    }
+}
