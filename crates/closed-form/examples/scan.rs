@@ -24,7 +24,12 @@ fn residual(mo: &ExplicitMotion<Float>, t: f64) -> f64 {
 }
 
 fn main() {
-    let (a, b) = (1.0, 0.5);
+    let a: f64 = std::env::var("A")
+        .map(|s| s.parse().unwrap())
+        .unwrap_or(1.0);
+    let b: f64 = std::env::var("B")
+        .map(|s| s.parse().unwrap())
+        .unwrap_or(0.5);
     let args: Vec<f64> = std::env::args()
         .skip(1)
         .map(|s| s.parse().unwrap())

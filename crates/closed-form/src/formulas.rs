@@ -57,7 +57,7 @@ pub struct ExplicitState<S> {
     pub alpha: Vec3<S>,
     /// β (eq. 1.3).
     pub beta: Vec3<S>,
-    /// γ (eq. 2.5).
+    /// γ (eq. 2.5, with the corrected γ₃).
     pub gamma: Vec3<S>,
     /// Ω (eq. 3.1).
     pub omega_fixed: Vec3<S>,
@@ -126,7 +126,9 @@ pub fn explicit_state<S: Real>(
     let gamma = [
         -(r.clone() * (s2.clone() * g1 * &psi + g2.clone() * &f1f2)) / &two_ab_d2,
         -(r.clone() * (s2.clone() * g1 * &f1f2 - g2.clone() * &psi)) / &two_ab_d2,
-        -(a2.clone() * s2 * x - &b2) / (two.clone() * a * b * &d),
+        // Printed with 2ab(s₁ − s₂) in the denominator: a typo, γ₃ = α₁β₂ − α₂β₁ needs ab(s₁ − s₂)
+        // (docs/closed-form.md, correction 1).
+        -(a2.clone() * s2 * x - &b2) / (a.clone() * b * &d),
     ];
     // eq. (3.1)
     let omega_fixed = [
