@@ -9,7 +9,8 @@ use crate::equations::VectorField;
 use crate::error::DynamicsError;
 
 use super::ode_solvers_adapter::{
-    collect_dense, convert_stats, initial_only, to_vector, EulerPoissonSystem, MAX_STEPS,
+    collect_dense, convert_stats, initial_only, solver_end, to_vector, EulerPoissonSystem,
+    MAX_STEPS,
 };
 use super::{OutputGrid, Problem, Propagator, Solution, Tolerances};
 
@@ -44,7 +45,7 @@ impl Propagator<f64> for Dop853 {
         let mut solver = ode_solvers::Dop853::from_param(
             EulerPoissonSystem(VectorField::new(&problem.fields)),
             0.0,
-            grid.t_end,
+            solver_end(grid),
             grid.spacing(),
             to_vector(&problem.initial),
             self.tolerances.rtol,

@@ -74,6 +74,17 @@ pub(super) fn collect_dense(
     })
 }
 
+/// End time to give an `ode_solvers` dense-output run: slightly beyond the last grid time.
+///
+/// `ode_solvers` 0.6 (Dopri5 and Dop853) pushes an output "at x_end" from *any* step after which
+/// the next dense-output time is within 1e-9 of x_end, with θ = (x_end − x_old)/h_old > 1 when
+/// that step ends before x_end: the last sample was an extrapolation, off by ~1e-4 at rtol 1e-12.
+/// Ending a hair past T (never within 1e-9 of a grid time) makes every sample, T included, an
+/// interpolation inside the step that contains it; the cost is one extra short step.
+pub(super) fn solver_end(grid: &OutputGrid) -> f64 {
+    grid.t_end + 1e-6 * grid.spacing() + 1e-8
+}
+
 /// Solution of a grid with a single sample: the initial state, no work.
 pub(super) fn initial_only(method: &'static str, initial: &State<f64>) -> Solution<f64> {
     Solution {
