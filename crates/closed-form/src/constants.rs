@@ -34,7 +34,7 @@ pub enum SigmaCurve {
     OuterA,
     /// h = −r²m − 2b (outer boundary, a root of Φ at ±b).
     OuterB,
-    /// 2p²m² + 2hm + 1 = 0, m < 0 (ℓ = 0: θ₁ = θ₂).
+    /// 2p²m² + 2hm + 1 = 0, m < 0 (ℓ = 0: θ₁ = −θ₂; beyond it ℓ is not real).
     Hyperbola,
     /// h = r²m + 2a (inside, a root of Φ at ±a).
     InnerA,
@@ -86,14 +86,27 @@ impl<T: Real> IntegralConstants<T> {
         Ok(c)
     }
 
+    /// The same constants in another scalar (each stored number mapped).
+    pub fn map<U: Real>(&self, f: &impl Fn(&T) -> U) -> IntegralConstants<U> {
+        IntegralConstants {
+            a: f(&self.a),
+            b: f(&self.b),
+            m: f(&self.m),
+            h: f(&self.h),
+            p2: f(&self.p2),
+            r2: f(&self.r2),
+            r: f(&self.r),
+            ell: f(&self.ell),
+            pmh: f(&self.pmh),
+        }
+    }
+
     /// The derived quantities without checks (for drawing the diagram).
     pub fn unchecked(a: T, b: T, m: T, h: T) -> Self {
-        let two = a.lit(2.0);
         let p2 = a.square() + b.square();
         let r2 = a.square() - b.square();
         let ell2 = Self::ell2_of(&p2, &m, &h);
         let ell = ell2.max_of(a.zero_like()).sqrt();
-        let _ = two;
         let pmh = p2.clone() * &m + &h;
         Self {
             r: r2.sqrt(),

@@ -1,7 +1,10 @@
 //! Jacobi elliptic functions sn, cn, dn and the complete integral K for a real modulus, generic
-//! over [`Real`], by the arithmetic–geometric mean and the descending Landen transformation
-//! (DLMF 22.20(ii); Abramowitz & Stegun 16.4). The parameter is given as the pair (k², k′²) so
-//! that k → 1 (k′² small) and k → 0 are both computed without cancellation.
+//! over [`Real`], by the arithmetic–geometric mean of (1, k′): Bulirsch's algorithm (R. Bulirsch,
+//! Numer. Math. 7 (1965) 78–90; the `sncndn` of Numerical Recipes), which works with k′² directly
+//! and builds cn multiplicatively, so it keeps full relative accuracy as k → 1 (near Σ, where the
+//! period grows without bound); near the zeros of sn, where Bulirsch's cotangent recursion would
+//! overflow, the descending Landen transformation (DLMF 22.20(ii)) is used. The parameter is given
+//! as the pair (k², k′²) so that k → 1 and k → 0 are both computed without cancellation.
 
 use rsts_dynamics::Real;
 
@@ -14,8 +17,9 @@ pub struct EllipticModulus<T> {
     pub kc2: T,
     /// Complete elliptic integral of the first kind K(k).
     pub big_k: T,
-    /// a₀…a_N and c₁…c_N of the AGM(1, k′).
+    /// a₀…a_N, b₀…b_N and c₀…c_N of the AGM(1, k′).
     a: Vec<T>,
+    b: Vec<T>,
     c: Vec<T>,
 }
 
@@ -25,20 +29,19 @@ impl<T: Real> EllipticModulus<T> {
         let one = k2.one_like();
         let eps = k2.epsilon();
         let mut a = vec![one.clone()];
-        let mut b = kc2.sqrt();
+        let mut bs = vec![kc2.sqrt()];
         let mut c = vec![k2.sqrt()];
         // AGM: a_{n+1} = (a_n + b_n)/2, b_{n+1} = √(a_n b_n), c_{n+1} = (a_n − b_n)/2.
         for _ in 0..64 {
             let an = a.last().unwrap().clone();
+            let bn = bs.last().unwrap().clone();
             let cn = c.last().unwrap().clone();
             if cn.abs() <= eps.clone() * &an {
                 break;
             }
-            let a_next = (an.clone() + &b) / an.lit(2.0);
-            let c_next = (an.clone() - &b) / an.lit(2.0);
-            b = (an * &b).sqrt();
-            a.push(a_next);
-            c.push(c_next);
+            a.push((an.clone() + &bn) / an.lit(2.0));
+            c.push((an.clone() - &bn) / an.lit(2.0));
+            bs.push((an * &bn).sqrt());
         }
         let pi = T::pi(k2.prec());
         let big_k = pi / (a.last().unwrap().clone() * k2.lit(2.0));
@@ -47,7 +50,20 @@ impl<T: Real> EllipticModulus<T> {
             kc2,
             big_k,
             a,
+            b: bs,
             c,
+        }
+    }
+
+    /// The same modulus in another scalar (each stored number mapped).
+    pub fn map<U: Real>(&self, f: &impl Fn(&T) -> U) -> EllipticModulus<U> {
+        EllipticModulus {
+            k2: f(&self.k2),
+            kc2: f(&self.kc2),
+            big_k: f(&self.big_k),
+            a: self.a.iter().map(f).collect(),
+            b: self.b.iter().map(f).collect(),
+            c: self.c.iter().map(f).collect(),
         }
     }
 
@@ -58,7 +74,34 @@ impl<T: Real> EllipticModulus<T> {
             // k = 0 to working precision: circular functions.
             return (u.sin(), u.cos(), u.one_like());
         }
-        // φ_N = 2^N a_N u, then φ_{n−1} = (φ_n + asin(c_n/a_n · sin φ_n))/2.
+        // Bulirsch: with the AGM mean c = a_N, sin(cu) and cos(cu), then the recursion below.
+        let c_agm = self.a[n].clone();
+        let uc = u.clone() * &c_agm;
+        let (s, co) = (uc.sin(), uc.cos());
+        if s.abs() < u.lit(1e-30) {
+            return self.landen(u);
+        }
+        let one = u.one_like();
+        let mut a = co / &s;
+        let mut c = c_agm * &a;
+        let mut dn = one.clone();
+        for i in (1..=n).rev() {
+            // em[i] = a_{i-1}, en[i] = b_{i-1} of the AGM of (1, k′).
+            let b = self.a[i - 1].clone();
+            a *= &c;
+            c *= &dn;
+            dn = (self.b[i - 1].clone() + &a) / (b.clone() + &a);
+            a = c.clone() / &b;
+        }
+        let mag = one / (c.square() + u.one_like()).sqrt();
+        let sn = if s >= s.zero_like() { mag } else { -mag };
+        let cn = c * &sn;
+        (sn, cn, dn)
+    }
+
+    /// The descending Landen transformation: φ_N = 2^N a_N u, φ_{n−1} = (φ_n + asin(c_n/a_n sin φ_n))/2.
+    fn landen(&self, u: &T) -> (T, T, T) {
+        let n = self.a.len() - 1;
         let mut phi = u.clone() * &self.a[n] * u.lit(2f64.powi(n as i32));
         let mut phi_prev = phi.clone();
         for j in (1..=n).rev() {

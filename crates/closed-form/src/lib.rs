@@ -14,6 +14,7 @@ pub mod error;
 pub mod formulas;
 pub mod motion;
 pub mod roots;
+pub mod scalar;
 pub mod separated;
 
 pub use camera::Camera;

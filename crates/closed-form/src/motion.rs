@@ -3,6 +3,7 @@
 
 use rsts_dynamics::dual::Dual;
 use rsts_dynamics::Real;
+use rug::Float;
 use serde::Serialize;
 
 use crate::camera::Camera;
@@ -10,6 +11,7 @@ use crate::constants::IntegralConstants;
 use crate::error::ClosedFormError;
 use crate::formulas::{explicit_state, ExplicitState, FormulaConstants, SeparatedCoordinates};
 use crate::roots::Root;
+use crate::scalar::{Scalar, GUARD_BITS};
 use crate::separated::{segments, SeparatedVariable};
 
 /// Which torus and where on it the motion starts.
@@ -43,6 +45,26 @@ pub struct ExplicitMotion<T> {
     /// u at t = 0 for each variable.
     u0: [T; 2],
     formula: FormulaConstants<T>,
+    /// The phase in extra precision (absent in the internal high-precision build).
+    clock: Option<PhaseClock>,
+}
+
+/// u₀, u̇ and the period 4K of sn for both variables, [`GUARD_BITS`] beyond the working precision.
+#[derive(Clone, Debug)]
+struct PhaseClock {
+    bits: u32,
+    u0: [Float; 2],
+    u_dot: [Float; 2],
+    four_k: [Float; 2],
+}
+
+impl PhaseClock {
+    /// u at time t reduced to [0, 4K).
+    fn reduced(&self, i: usize, t: &Float) -> Float {
+        let u = Float::with_val(self.bits, &self.u_dot[i] * t) + &self.u0[i];
+        let n = Float::with_val(self.bits, &u / &self.four_k[i]).floor();
+        u - n * &self.four_k[i]
+    }
 }
 
 type Segment<T> = (Root<T>, Root<T>);
@@ -57,9 +79,97 @@ fn free_sign_of<T: Real>(
     Ok(SeparatedVariable::new(name, f, g, seg.clone(), eps, 1)?.free_sign)
 }
 
-impl<T: Real> ExplicitMotion<T> {
-    /// The motion for (a, b, m, h) on the chosen torus.
+impl<T: Scalar> ExplicitMotion<T> {
+    /// The motion for (a, b, m, h) on the chosen torus, in the precision of `a`. The constants
+    /// are computed [`GUARD_BITS`] beyond it and rounded once.
     pub fn new(a: T, b: T, m: T, h: T, choice: TorusChoice) -> Result<Self, ClosedFormError> {
+        let bits = a.prec();
+        let hi = bits.max(53) + GUARD_BITS;
+        let up = |x: &T| x.to_mpfr(hi);
+        let exact = ExplicitMotion::<Float>::build(up(&a), up(&b), up(&m), up(&h), choice)?;
+        let down = |x: &Float| T::from_mpfr(x, bits);
+        let vars = [&exact.first, &exact.second];
+        let clock = PhaseClock {
+            bits: hi,
+            u0: exact.u0.clone(),
+            u_dot: vars.map(|v| v.u_dot.clone()),
+            four_k: vars.map(|v| v.modulus.big_k.clone() * 4u32),
+        };
+        Ok(Self {
+            constants: exact.constants.map(&down),
+            camera: exact.camera,
+            tori: exact.tori,
+            choice,
+            first: exact.first.map(&down),
+            second: exact.second.map(&down),
+            u0: exact.u0.clone().map(|x| down(&x)),
+            formula: FormulaConstants {
+                a: down(&exact.formula.a),
+                b: down(&exact.formula.b),
+                m: down(&exact.formula.m),
+                ell: down(&exact.formula.ell),
+                r: down(&exact.formula.r),
+                pmh: down(&exact.formula.pmh),
+            },
+            clock: Some(clock),
+        })
+    }
+
+    /// The parameters u₁, u₂ of the elliptic functions at time t, reduced modulo 4K.
+    fn u_at(&self, t: &T) -> [T; 2] {
+        match &self.clock {
+            Some(clock) => {
+                let bits = self.constants.a.prec();
+                let tt = t.to_mpfr(clock.bits);
+                std::array::from_fn(|i| T::from_mpfr(&clock.reduced(i, &tt), bits))
+            }
+            None => {
+                let vars = self.vars();
+                std::array::from_fn(|i| {
+                    let u = self.u0[i].clone() + vars[i].u_dot.clone() * t;
+                    let four_k = vars[i].modulus.big_k.clone() * u.lit(4.0);
+                    let n = (u.clone() / &four_k).floor();
+                    u - n * &four_k
+                })
+            }
+        }
+    }
+
+    /// The state at time t.
+    pub fn at(&self, t: &T) -> ExplicitState<T> {
+        let [u1, u2] = self.u_at(t);
+        self.at_u(&u1, &u2)
+    }
+
+    /// The state at time t with its time derivative (dual parts), by the chain rule through the
+    /// separated variables: d sn/dt = u̇ cn dn, d cn/dt = −u̇ sn dn.
+    pub fn at_with_derivative(&self, t: &T) -> ExplicitState<Dual<T>> {
+        let [u1, u2] = self.u_at(t);
+        let point = |var: &SeparatedVariable<T>, u: &T| {
+            let (sn, cn, dn) = var.modulus.sn_cn_dn(u);
+            let sn_d = Dual::new(sn.clone(), var.u_dot.clone() * &cn * &dn);
+            let cn_d = Dual::new(cn, -(var.u_dot.clone() * &sn * &dn));
+            var.eval::<Dual<T>>(&sn_d, &cn_d)
+        };
+        let p1 = point(&self.first, &u1);
+        let p2 = point(&self.second, &u2);
+        let f = &self.formula;
+        let lift = |x: &T| Dual::constant(x.clone());
+        let fc = FormulaConstants {
+            a: lift(&f.a),
+            b: lift(&f.b),
+            m: lift(&f.m),
+            ell: lift(&f.ell),
+            r: lift(&f.r),
+            pmh: lift(&f.pmh),
+        };
+        explicit_state(&fc, SeparatedCoordinates::new(p1, p2))
+    }
+}
+
+impl<T: Real> ExplicitMotion<T> {
+    /// The motion computed directly in T, without guard digits.
+    fn build(a: T, b: T, m: T, h: T, choice: TorusChoice) -> Result<Self, ClosedFormError> {
         for (name, v) in [("phase1", choice.phase1), ("phase2", choice.phase2)] {
             if !v.is_finite() {
                 return Err(ClosedFormError::Parameters(format!(
@@ -141,6 +251,7 @@ impl<T: Real> ExplicitMotion<T> {
             second,
             u0,
             formula,
+            clock: None,
         })
     }
 
@@ -166,26 +277,6 @@ impl<T: Real> ExplicitMotion<T> {
         n1 / n2
     }
 
-    /// The parameters u₁, u₂ of the elliptic functions at time t.
-    fn u_at(&self, t: &T) -> [T; 2] {
-        let vars = self.vars();
-        std::array::from_fn(|i| self.u0[i].clone() + vars[i].u_dot.clone() * t)
-    }
-
-    /// (sn, cn, dn) of a variable at parameter u, reduced modulo the period 4K of sn.
-    fn elliptic(var: &SeparatedVariable<T>, u: &T) -> (T, T, T) {
-        let four_k = var.modulus.big_k.clone() * u.lit(4.0);
-        let n = (u.clone() / &four_k).floor();
-        let ur = u.clone() - n * &four_k;
-        var.modulus.sn_cn_dn(&ur)
-    }
-
-    /// The state at time t.
-    pub fn at(&self, t: &T) -> ExplicitState<T> {
-        let [u1, u2] = self.u_at(t);
-        self.at_u(&u1, &u2)
-    }
-
     /// The state at the angles (ψ₁, ψ₂) on the torus.
     pub fn at_angles(&self, psi1: &T, psi2: &T) -> ExplicitState<T> {
         let two_pi = T::pi(self.constants.a.prec()) * self.constants.a.lit(2.0);
@@ -195,35 +286,10 @@ impl<T: Real> ExplicitMotion<T> {
     }
 
     fn at_u(&self, u1: &T, u2: &T) -> ExplicitState<T> {
-        let (sn1, cn1, _) = Self::elliptic(&self.first, u1);
-        let (sn2, cn2, _) = Self::elliptic(&self.second, u2);
+        let (sn1, cn1, _) = self.first.modulus.sn_cn_dn(u1);
+        let (sn2, cn2, _) = self.second.modulus.sn_cn_dn(u2);
         let p1 = self.first.eval::<T>(&sn1, &cn1);
         let p2 = self.second.eval::<T>(&sn2, &cn2);
         explicit_state(&self.formula, SeparatedCoordinates::new(p1, p2))
-    }
-
-    /// The state at time t with its time derivative (dual parts), by the chain rule through the
-    /// separated variables: d sn/dt = u̇ cn dn, d cn/dt = −u̇ sn dn.
-    pub fn at_with_derivative(&self, t: &T) -> ExplicitState<Dual<T>> {
-        let [u1, u2] = self.u_at(t);
-        let point = |var: &SeparatedVariable<T>, u: &T| {
-            let (sn, cn, dn) = Self::elliptic(var, u);
-            let sn_d = Dual::new(sn.clone(), var.u_dot.clone() * &cn * &dn);
-            let cn_d = Dual::new(cn, -(var.u_dot.clone() * &sn * &dn));
-            var.eval::<Dual<T>>(&sn_d, &cn_d)
-        };
-        let p1 = point(&self.first, &u1);
-        let p2 = point(&self.second, &u2);
-        let f = &self.formula;
-        let lift = |x: &T| Dual::constant(x.clone());
-        let fc = FormulaConstants {
-            a: lift(&f.a),
-            b: lift(&f.b),
-            m: lift(&f.m),
-            ell: lift(&f.ell),
-            r: lift(&f.r),
-            pmh: lift(&f.pmh),
-        };
-        explicit_state(&fc, SeparatedCoordinates::new(p1, p2))
     }
 }

@@ -50,6 +50,15 @@ impl<T: Real> Root<T> {
         Self { label, n, d }
     }
 
+    /// The same root in another scalar.
+    pub fn map<U: Real>(&self, f: &impl Fn(&T) -> U) -> Root<U> {
+        Root {
+            label: self.label,
+            n: f(&self.n),
+            d: f(&self.d),
+        }
+    }
+
     /// The linear form L(v) = d·v − n that vanishes at the root.
     pub fn lin(&self, v: &T) -> T {
         self.d.clone() * v - &self.n

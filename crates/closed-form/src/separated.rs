@@ -271,6 +271,38 @@ impl<T: Real> SeparatedVariable<T> {
         })
     }
 
+    /// The same variable in another scalar (each stored number mapped).
+    pub fn map<U: Real>(&self, f: &impl Fn(&T) -> U) -> SeparatedVariable<U> {
+        let factor = |x: &Factor<T>| match x {
+            Factor::Lambda { coef } => Factor::Lambda { coef: f(coef) },
+            Factor::Mu { coef } => Factor::Mu { coef: f(coef) },
+            Factor::Passive { at_lambda, at_mu } => Factor::Passive {
+                at_lambda: f(at_lambda),
+                at_mu: f(at_mu),
+            },
+        };
+        let shape = |s: &RadicalShape<T>| RadicalShape {
+            c_abs: f(&s.c_abs),
+            factors: [factor(&s.factors[0]), factor(&s.factors[1])],
+            sigma: f(&s.sigma),
+        };
+        SeparatedVariable {
+            name: self.name,
+            lambda: self.lambda.map(f),
+            mu: self.mu.map(f),
+            nu: self.nu.map(f),
+            kappa: self.kappa.map(f),
+            lambda_v: f(&self.lambda_v),
+            mu_v: f(&self.mu_v),
+            lk_lambda: f(&self.lk_lambda),
+            lk_mu: f(&self.lk_mu),
+            shapes: [shape(&self.shapes[0]), shape(&self.shapes[1])],
+            modulus: self.modulus.map(f),
+            u_dot: f(&self.u_dot),
+            free_sign: self.free_sign,
+        }
+    }
+
     /// Period in u of the state along this variable: 2K when one radical holds both turning
     /// points (the state depends on sn·cn and sn², cn² only), 4K otherwise.
     pub fn period_u(&self) -> T {
