@@ -116,3 +116,23 @@ fn the_checks_catch_a_wrong_sign_and_a_wrong_constant() {
     assert!((hh.clone() - &motion.constants.h).abs().to_f64() < 1e-45);
     assert!((hh - mp(-0.375 + 1e-9, bits)).abs().to_f64() > 1e-10);
 }
+
+#[test]
+fn thousand_digits() {
+    // The same code at 1000 digits: every check holds far below f64's range (residuals are
+    // reported as f64, so this asserts < 1e-300; 50-digit runs above assert < 1e-45).
+    let motion = motion_mp(
+        "1",
+        "0.5",
+        "-0.7092",
+        "1.5643",
+        1000,
+        TorusChoice {
+            torus: 3,
+            phase1: 0.2,
+            phase2: 5.0,
+        },
+    );
+    assert_eq!(motion.camera.label(), "V");
+    assert_all_below(&motion, 7.25, 1e-300, "V at 1000 digits");
+}
