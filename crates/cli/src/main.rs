@@ -1,1 +1,83 @@
-fn main() {}
+//! `rsts`: command-line front end of the Kowalevski-top integrator cross-checker.
+//!
+//! Parsing and dispatch only. Each subcommand lives in its own file under `commands/` and
+//! exposes `Args` (clap), `EXAMPLES` (shown by `--help`) and `run(args, out)`; adding one is a new
+//! file, a `pub mod` line in `commands/mod.rs`, a variant of [`Command`] and an arm of
+//! [`Command::run`]. Any error is printed as `error: ...` on stderr with exit code 2.
+
+mod args;
+mod commands;
+mod output;
+
+use std::io::{self, Write};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use commands::integrate;
+
+/// Exit code for bad input and any other error (the same code clap uses for usage errors).
+const EXIT_ERROR: u8 = 2;
+
+const TOP_EXAMPLES: &str = "\
+Examples:
+  rsts integrate
+  rsts integrate --a 1 --b 0.5 --omega -0.3,0.2,0.5 --alpha 1,0,0 --beta 0,1,0 --t-end 100 --samples 101 --format csv
+
+Run `rsts <COMMAND> --help` for the options and more examples of each command.";
+
+/// Cross-checker of ODE integrators for the Kowalevski top in two constant force fields
+/// (Reyman–Semenov-Tian-Shansky problem, inertia diag(2, 2, 1)).
+#[derive(Debug, Parser)]
+#[command(name = "rsts", version, after_help = TOP_EXAMPLES)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Integrate the Euler–Poisson equations from one state and print the samples with H, K, G.
+    #[command(after_help = integrate::EXAMPLES)]
+    Integrate(integrate::Args),
+}
+
+impl Command {
+    fn run(self, out: &mut dyn Write) -> anyhow::Result<()> {
+        match self {
+            Command::Integrate(args) => integrate::run(args, out),
+        }
+    }
+}
+
+/// True when the error is a closed stdout (e.g. `rsts integrate | head`): not worth a message.
+fn is_broken_pipe(err: &anyhow::Error) -> bool {
+    err.chain().any(|cause| {
+        cause
+            .downcast_ref::<io::Error>()
+            .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe)
+    })
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // Usage errors print `error: ...` and exit 2; --help and --version exit 0.
+        Err(e) => e.exit(),
+    };
+    let stdout = io::stdout();
+    let mut out = io::BufWriter::new(stdout.lock());
+    let result = cli
+        .command
+        .run(&mut out)
+        .and_then(|()| out.flush().map_err(anyhow::Error::from));
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
+        Err(e) => {
+            // Best effort: if stderr itself is gone there is nobody to tell.
+            let _ = writeln!(io::stderr(), "error: {e:#}");
+            ExitCode::from(EXIT_ERROR)
+        }
+    }
+}

@@ -1,0 +1,3 @@
+//! One module per subcommand, each with `Args`, `EXAMPLES` and `run(args, out)`.
+
+pub mod integrate;
