@@ -1,0 +1,676 @@
+//! Reading a log back: summary and series extraction for `rsts inspect`.
+//!
+//! Both entry points do one linear scan of the whole file, which works on complete,
+//! truncated and partly damaged files alike: a chunk that fails to decompress or whose CRC
+//! does not match is skipped whole (its messages are not trusted), and the scan stops at
+//! the first top-level record it cannot frame (for a truncated file: the cut). When the
+//! file has a summary section, its statistics are checked against the scan. Whatever went
+//! wrong is described in the `notes` and flagged by `recovered: true`; a file that is not
+//! MCAP at all, or cannot be read, is an [`InspectError`]. No input makes these panic.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+
+use mcap::records::Record;
+use serde::Serialize;
+use serde_json::Value;
+
+use crate::topics;
+
+/// Errors of the reader. A damaged file with anything readable is *not* an error: it gives
+/// a result with `recovered: true` and notes.
+#[derive(Debug, thiserror::Error)]
+pub enum InspectError {
+    #[error("cannot read {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path} is not an MCAP file: {reason}")]
+    NotMcap { path: PathBuf, reason: String },
+    #[error("no channel `{topic}` in the file; channels: {}", available.join(", "))]
+    UnknownTopic {
+        topic: String,
+        available: Vec<String>,
+    },
+    #[error("channel `{topic}` has message encoding `{encoding}`, only `json` can be extracted")]
+    NotJson { topic: String, encoding: String },
+    #[error("internal error while reading {path} (the MCAP reader panicked): {message}")]
+    ReaderPanicked { path: PathBuf, message: String },
+}
+
+/// One channel of the file.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChannelInfo {
+    pub topic: String,
+    /// Schema name, e.g. `foxglove.FrameTransform` (None for a schemaless channel).
+    pub schema_name: Option<String>,
+    pub schema_encoding: Option<String>,
+    pub message_encoding: String,
+    /// Messages read (for a complete file: equal to the summary statistics).
+    pub message_count: u64,
+}
+
+/// An MCAP Metadata record.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MetadataRecord {
+    pub name: String,
+    pub metadata: BTreeMap<String, String>,
+}
+
+/// The largest absolute value of one numeric field of the `/errors` channel.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FieldMax {
+    /// Flattened field path (`state_error`, or `a.0` for nested arrays/objects).
+    pub field: String,
+    /// max |value| over the finite values (NaN if none was finite).
+    pub max_abs: f64,
+    /// Motion time (s, from the log time) at which the maximum occurs.
+    pub at_t: f64,
+    /// Number of non-finite values (logged as JSON `null`).
+    pub non_finite: u64,
+}
+
+/// What `rsts inspect FILE` prints.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    pub path: PathBuf,
+    pub file_size: u64,
+    /// Writer library from the MCAP header.
+    pub library: Option<String>,
+    pub channels: Vec<ChannelInfo>,
+    /// Messages read.
+    pub message_count: u64,
+    /// Log times of the first and last message, in ns (None without messages).
+    pub start_time_ns: Option<u64>,
+    pub end_time_ns: Option<u64>,
+    pub metadata: Vec<MetadataRecord>,
+    /// Maxima of the numeric fields of `/errors`, in the order the fields first appear.
+    pub error_maxima: Vec<FieldMax>,
+    /// Whether a valid summary section was found (and agreed with the data).
+    pub has_summary_section: bool,
+    /// True when the file was damaged or incomplete and this is what could be recovered.
+    pub recovered: bool,
+    /// What was wrong, in plain words (empty for a healthy file).
+    pub notes: Vec<String>,
+}
+
+/// One message of an extracted series.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SeriesPoint {
+    pub log_time_ns: u64,
+    /// Motion time in seconds: `log_time_ns / 1e9`.
+    pub t: f64,
+    pub value: Value,
+}
+
+/// The messages of one JSON channel.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Series {
+    pub topic: String,
+    pub points: Vec<SeriesPoint>,
+    pub recovered: bool,
+    pub notes: Vec<String>,
+}
+
+#[derive(Default)]
+struct ScanChannel {
+    topic: String,
+    schema_id: u16,
+    message_encoding: String,
+    count: u64,
+}
+
+#[derive(Default)]
+struct Scan {
+    library: Option<String>,
+    schemas: BTreeMap<u16, (String, String)>,
+    channels: BTreeMap<u16, ScanChannel>,
+    metadata: Vec<MetadataRecord>,
+    message_count: u64,
+    time_range: Option<(u64, u64)>,
+    notes: Vec<String>,
+    saw_data_end: bool,
+}
+
+/// A message as seen by the scan callback.
+struct Msg<'a> {
+    topic: &'a str,
+    encoding: &'a str,
+    log_time: u64,
+    data: &'a [u8],
+}
+
+impl Scan {
+    fn record(&mut self, rec: Record<'_>, on_msg: &mut dyn FnMut(Msg<'_>)) {
+        match rec {
+            Record::Header(h) => self.library = Some(h.library),
+            Record::Schema { header, .. } => {
+                self.schemas
+                    .insert(header.id, (header.name, header.encoding));
+            }
+            Record::Channel(c) => {
+                self.channels.entry(c.id).or_insert(ScanChannel {
+                    topic: c.topic,
+                    schema_id: c.schema_id,
+                    message_encoding: c.message_encoding,
+                    count: 0,
+                });
+            }
+            Record::Message { header, data } => match self.channels.get_mut(&header.channel_id) {
+                Some(ch) => {
+                    ch.count += 1;
+                    self.message_count += 1;
+                    self.time_range = Some(match self.time_range {
+                        None => (header.log_time, header.log_time),
+                        Some((a, b)) => (a.min(header.log_time), b.max(header.log_time)),
+                    });
+                    on_msg(Msg {
+                        topic: &ch.topic,
+                        encoding: &ch.message_encoding,
+                        log_time: header.log_time,
+                        data: &data,
+                    });
+                }
+                None => self.notes.push(format!(
+                    "message {} refers to unknown channel {}; skipped",
+                    header.sequence, header.channel_id
+                )),
+            },
+            Record::Metadata(m) => self.metadata.push(MetadataRecord {
+                name: m.name,
+                metadata: m.metadata,
+            }),
+            Record::DataEnd(_) => self.saw_data_end = true,
+            _ => {}
+        }
+    }
+}
+
+fn read_file(path: &Path) -> Result<Vec<u8>, InspectError> {
+    let buf = std::fs::read(path).map_err(|source| InspectError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    if buf.len() < mcap::MAGIC.len() {
+        return Err(InspectError::NotMcap {
+            path: path.to_path_buf(),
+            reason: format!("only {} bytes, shorter than the MCAP magic", buf.len()),
+        });
+    }
+    if !buf.starts_with(mcap::MAGIC) {
+        return Err(InspectError::NotMcap {
+            path: path.to_path_buf(),
+            reason: "it does not start with the MCAP magic bytes".into(),
+        });
+    }
+    Ok(buf)
+}
+
+fn scan(buf: &[u8], on_msg: &mut dyn FnMut(Msg<'_>)) -> Scan {
+    let mut s = Scan::default();
+    let reader = match mcap::read::LinearReader::new_with_options(
+        buf,
+        mcap::read::Options::IgnoreEndMagic.into(),
+    ) {
+        Ok(r) => r,
+        Err(e) => {
+            s.notes.push(format!("cannot start reading: {e}"));
+            return s;
+        }
+    };
+    let mut chunk_no = 0u64;
+    for rec in reader {
+        match rec {
+            Ok(Record::Chunk { header, data }) => {
+                chunk_no += 1;
+                let (start, end) = (header.message_start_time, header.message_end_time);
+                let records: Result<Vec<Record<'_>>, mcap::McapError> =
+                    mcap::read::ChunkReader::new(header, &data).and_then(|r| r.collect());
+                match records {
+                    Ok(records) => {
+                        for r in records {
+                            s.record(r, on_msg);
+                        }
+                    }
+                    Err(e) => s.notes.push(format!(
+                        "chunk {chunk_no} (log times {} to {} s) is damaged and was skipped: {e}",
+                        ns_to_s(start),
+                        ns_to_s(end)
+                    )),
+                }
+            }
+            Ok(r) => s.record(r, on_msg),
+            Err(e) => {
+                let what = match e {
+                    mcap::McapError::UnexpectedEof => {
+                        "the file ends in the middle of a record (truncated: the writer did not finish)".to_string()
+                    }
+                    other => format!("unreadable record ({other})"),
+                };
+                s.notes.push(format!(
+                    "reading stopped after chunk {chunk_no}: {what}; everything before it was recovered"
+                ));
+                break;
+            }
+        }
+        if s.saw_data_end {
+            break;
+        }
+    }
+    if !s.saw_data_end && s.notes.is_empty() {
+        s.notes
+            .push("the data section has no end record (the writer did not finish)".into());
+    }
+    s
+}
+
+fn ns_to_s(ns: u64) -> f64 {
+    ns as f64 * 1e-9
+}
+
+fn guarded<T>(path: &Path, f: impl FnOnce() -> Result<T, InspectError>) -> Result<T, InspectError> {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(r) => r,
+        Err(p) => {
+            let message = p
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| p.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            Err(InspectError::ReaderPanicked {
+                path: path.to_path_buf(),
+                message,
+            })
+        }
+    }
+}
+
+/// Flattens a JSON value into `(path, leaf)` pairs: object keys and array indices joined by
+/// `.` (`q.0.2`, `quaternion.w`); a scalar at the top has the path `""`.
+pub fn flatten(value: &Value) -> Vec<(String, Value)> {
+    fn go(prefix: &str, v: &Value, out: &mut Vec<(String, Value)>) {
+        let join = |k: &str| {
+            if prefix.is_empty() {
+                k.to_string()
+            } else {
+                format!("{prefix}.{k}")
+            }
+        };
+        match v {
+            Value::Object(m) => {
+                for (k, x) in m {
+                    go(&join(k), x, out);
+                }
+            }
+            Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    go(&join(&i.to_string()), x, out);
+                }
+            }
+            leaf => out.push((prefix.to_string(), leaf.clone())),
+        }
+    }
+    let mut out = Vec::new();
+    go("", value, &mut out);
+    out
+}
+
+/// Summarises the file at `path`: channels, schemas, message counts, time range, metadata
+/// records and the maximum of each numeric field on `/errors`.
+pub fn summarize(path: impl AsRef<Path>) -> Result<Summary, InspectError> {
+    let path = path.as_ref();
+    let buf = read_file(path)?;
+    guarded(path, || Ok(summarize_bytes(path, &buf)))
+}
+
+fn summarize_bytes(path: &Path, buf: &[u8]) -> Summary {
+    let mut maxima: Vec<FieldMax> = Vec::new();
+    let mut bad_error_msgs = 0u64;
+    let mut s = scan(buf, &mut |m| {
+        if m.topic != topics::ERRORS {
+            return;
+        }
+        let Ok(v) = serde_json::from_slice::<Value>(m.data) else {
+            bad_error_msgs += 1;
+            return;
+        };
+        let t = ns_to_s(m.log_time);
+        for (field, leaf) in flatten(&v) {
+            if field == "t" {
+                continue;
+            }
+            let idx = match maxima.iter().position(|f| f.field == field) {
+                Some(i) => i,
+                None => {
+                    maxima.push(FieldMax {
+                        field,
+                        max_abs: f64::NAN,
+                        at_t: f64::NAN,
+                        non_finite: 0,
+                    });
+                    maxima.len() - 1
+                }
+            };
+            let fm = &mut maxima[idx];
+            match leaf.as_f64() {
+                Some(x) if x.is_finite() => {
+                    if fm.max_abs.is_nan() || x.abs() > fm.max_abs {
+                        fm.max_abs = x.abs();
+                        fm.at_t = t;
+                    }
+                }
+                _ => fm.non_finite += 1,
+            }
+        }
+    });
+    if bad_error_msgs > 0 {
+        s.notes.push(format!(
+            "{bad_error_msgs} message(s) on {} are not valid JSON and were ignored",
+            topics::ERRORS
+        ));
+    }
+
+    let mut has_summary_section = false;
+    let scan_ok = s.notes.is_empty();
+    match mcap::Summary::read(buf) {
+        Ok(Some(sum)) => {
+            has_summary_section = true;
+            if let Some(stats) = &sum.stats {
+                let mut disagreements = Vec::new();
+                if stats.message_count != s.message_count {
+                    disagreements.push(format!(
+                        "the summary section counts {} messages, {} could be read",
+                        stats.message_count, s.message_count
+                    ));
+                }
+                for (id, n) in &stats.channel_message_counts {
+                    let got = s.channels.get(id).map_or(0, |c| c.count);
+                    if got != *n && stats.message_count == s.message_count {
+                        disagreements.push(format!(
+                            "channel {id}: summary counts {n} messages, {got} read"
+                        ));
+                    }
+                }
+                if !disagreements.is_empty() {
+                    has_summary_section = false;
+                    s.notes.extend(disagreements);
+                }
+            }
+            // Channels listed only in the summary (e.g. their records were in a lost chunk).
+            for (id, ch) in &sum.channels {
+                s.channels.entry(*id).or_insert_with(|| {
+                    if let Some(sc) = &ch.schema {
+                        s.schemas
+                            .entry(sc.id)
+                            .or_insert((sc.name.clone(), sc.encoding.clone()));
+                    }
+                    ScanChannel {
+                        topic: ch.topic.clone(),
+                        schema_id: ch.schema.as_ref().map_or(0, |sc| sc.id),
+                        message_encoding: ch.message_encoding.clone(),
+                        count: 0,
+                    }
+                });
+            }
+        }
+        Ok(None) => {
+            if scan_ok {
+                s.notes.push("the file has no summary section".into());
+            }
+        }
+        Err(e) => {
+            // A truncated file has no footer; say so only when the scan found nothing else.
+            if scan_ok
+                || !matches!(
+                    e,
+                    mcap::McapError::BadMagic | mcap::McapError::UnexpectedEof
+                )
+            {
+                s.notes
+                    .push(format!("the summary section or footer is unreadable: {e}"));
+            }
+        }
+    }
+
+    let channels = s
+        .channels
+        .values()
+        .map(|c| {
+            let schema = s.schemas.get(&c.schema_id);
+            ChannelInfo {
+                topic: c.topic.clone(),
+                schema_name: schema.map(|x| x.0.clone()),
+                schema_encoding: schema.map(|x| x.1.clone()),
+                message_encoding: c.message_encoding.clone(),
+                message_count: c.count,
+            }
+        })
+        .collect();
+    Summary {
+        path: path.to_path_buf(),
+        file_size: buf.len() as u64,
+        library: s.library,
+        channels,
+        message_count: s.message_count,
+        start_time_ns: s.time_range.map(|r| r.0),
+        end_time_ns: s.time_range.map(|r| r.1),
+        metadata: s.metadata,
+        error_maxima: maxima,
+        has_summary_section,
+        recovered: !s.notes.is_empty(),
+        notes: s.notes,
+    }
+}
+
+/// Extracts the JSON messages of `topic`, in file order, with their times. A damaged file
+/// gives the recovered messages with `recovered: true` and notes.
+pub fn extract(path: impl AsRef<Path>, topic: &str) -> Result<Series, InspectError> {
+    let path = path.as_ref();
+    let buf = read_file(path)?;
+    guarded(path, || {
+        let mut points = Vec::new();
+        let mut encoding: Option<String> = None;
+        let mut bad = 0u64;
+        let s = scan(&buf, &mut |m| {
+            if m.topic != topic {
+                return;
+            }
+            if m.encoding != "json" {
+                encoding = Some(m.encoding.to_string());
+                return;
+            }
+            match serde_json::from_slice::<Value>(m.data) {
+                Ok(value) => points.push(SeriesPoint {
+                    log_time_ns: m.log_time,
+                    t: ns_to_s(m.log_time),
+                    value,
+                }),
+                Err(_) => bad += 1,
+            }
+        });
+        let channel = s.channels.values().find(|c| c.topic == topic);
+        let Some(channel) = channel else {
+            let mut available: Vec<String> = s.channels.values().map(|c| c.topic.clone()).collect();
+            available.sort();
+            return Err(InspectError::UnknownTopic {
+                topic: topic.to_string(),
+                available,
+            });
+        };
+        if let Some(encoding) = encoding.or_else(|| {
+            (channel.message_encoding != "json").then(|| channel.message_encoding.clone())
+        }) {
+            return Err(InspectError::NotJson {
+                topic: topic.to_string(),
+                encoding,
+            });
+        }
+        let mut notes = s.notes;
+        if bad > 0 {
+            notes.push(format!(
+                "{bad} message(s) are not valid JSON and were skipped"
+            ));
+        }
+        Ok(Series {
+            topic: topic.to_string(),
+            points,
+            recovered: !notes.is_empty(),
+            notes,
+        })
+    })
+}
+
+fn csv_field(v: &Value) -> String {
+    match v {
+        Value::Null => String::new(),
+        Value::String(s) => {
+            if s.contains([',', '"', '\n', '\r']) {
+                format!("\"{}\"", s.replace('"', "\"\""))
+            } else {
+                s.clone()
+            }
+        }
+        other => other.to_string(),
+    }
+}
+
+impl Series {
+    /// Column names of [`to_csv`](Self::to_csv): `log_time` then the flattened fields in
+    /// order of first appearance.
+    pub fn columns(&self) -> Vec<String> {
+        let mut cols: Vec<String> = Vec::new();
+        for p in &self.points {
+            for (k, _) in flatten(&p.value) {
+                let k = if k.is_empty() { "value".to_string() } else { k };
+                if !cols.contains(&k) {
+                    cols.push(k);
+                }
+            }
+        }
+        cols
+    }
+
+    /// CSV: a header line `log_time,<fields…>` then one line per message; `log_time` is in
+    /// seconds, nested fields are flattened (`omega.0`, `q.1.2`), missing or null values
+    /// are empty.
+    pub fn to_csv(&self) -> String {
+        let cols = self.columns();
+        let mut out = String::from("log_time");
+        for c in &cols {
+            out.push(',');
+            out.push_str(&csv_field(&Value::String(c.clone())));
+        }
+        out.push('\n');
+        for p in &self.points {
+            let flat: BTreeMap<String, Value> = flatten(&p.value)
+                .into_iter()
+                .map(|(k, v)| (if k.is_empty() { "value".into() } else { k }, v))
+                .collect();
+            out.push_str(&p.t.to_string());
+            for c in &cols {
+                out.push(',');
+                out.push_str(&flat.get(c).map(csv_field).unwrap_or_default());
+            }
+            out.push('\n');
+        }
+        out
+    }
+
+    /// JSON: an array of `{"log_time": seconds, "log_time_ns": n, "message": {...}}`, one
+    /// element per line.
+    pub fn to_json(&self) -> String {
+        let mut out = String::from("[\n");
+        for (i, p) in self.points.iter().enumerate() {
+            let v = serde_json::json!({"log_time": p.t, "log_time_ns": p.log_time_ns, "message": p.value});
+            out.push_str(&v.to_string());
+            if i + 1 < self.points.len() {
+                out.push(',');
+            }
+            out.push('\n');
+        }
+        out.push_str("]\n");
+        out
+    }
+}
+
+impl fmt::Display for Summary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "file: {} ({} bytes)",
+            self.path.display(),
+            self.file_size
+        )?;
+        if let Some(lib) = &self.library {
+            writeln!(f, "written by: {lib}")?;
+        }
+        if self.recovered {
+            writeln!(
+                f,
+                "status: DAMAGED OR INCOMPLETE — showing what could be recovered"
+            )?;
+            for n in &self.notes {
+                writeln!(f, "  - {n}")?;
+            }
+        } else {
+            writeln!(f, "status: complete")?;
+        }
+        match (self.start_time_ns, self.end_time_ns) {
+            (Some(a), Some(b)) => writeln!(
+                f,
+                "time range: t = {} .. {} s ({} messages)",
+                ns_to_s(a),
+                ns_to_s(b),
+                self.message_count
+            )?,
+            _ => writeln!(f, "time range: none (no message recovered)")?,
+        }
+        writeln!(f, "channels:")?;
+        let w = self
+            .channels
+            .iter()
+            .map(|c| c.topic.len())
+            .max()
+            .unwrap_or(0);
+        for c in &self.channels {
+            writeln!(
+                f,
+                "  {:w$}  {:>8} msgs  {} ({}), {}",
+                c.topic,
+                c.message_count,
+                c.schema_name.as_deref().unwrap_or("<no schema>"),
+                c.schema_encoding.as_deref().unwrap_or("-"),
+                c.message_encoding,
+            )?;
+        }
+        for m in &self.metadata {
+            writeln!(f, "metadata `{}`:", m.name)?;
+            for (k, v) in &m.metadata {
+                if k == "case" || k == "integrator" {
+                    continue; // the whole-object JSON duplicates the per-field keys
+                }
+                writeln!(f, "  {k} = {v}")?;
+            }
+        }
+        if !self.error_maxima.is_empty() {
+            writeln!(f, "max |value| on {}:", topics::ERRORS)?;
+            let w = self
+                .error_maxima
+                .iter()
+                .map(|m| m.field.len())
+                .max()
+                .unwrap_or(0);
+            for m in &self.error_maxima {
+                write!(f, "  {:w$}  {:.6e}  at t = {}", m.field, m.max_abs, m.at_t)?;
+                if m.non_finite > 0 {
+                    write!(f, "  ({} non-finite values)", m.non_finite)?;
+                }
+                writeln!(f)?;
+            }
+        }
+        Ok(())
+    }
+}
