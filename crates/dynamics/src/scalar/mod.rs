@@ -11,6 +11,9 @@ use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssi
 use rug::float::Constant;
 use rug::Float;
 
+pub mod double_double;
+pub use double_double::DoubleDouble;
+
 /// Bits of a `f64` mantissa, the precision `f64` reports.
 pub const F64_BITS: u32 = 53;
 
@@ -94,6 +97,10 @@ pub trait Real:
     /// `self * self`.
     fn square(&self) -> Self {
         self.clone() * self
+    }
+    /// `self += a·b` (fused where the type can: one rounding in MPFR, no temporaries).
+    fn mul_add_assign(&mut self, a: &Self, b: &Self) {
+        *self += a.clone() * b;
     }
     fn max_of(self, other: Self) -> Self {
         if other > self {
@@ -215,6 +222,9 @@ impl Real for Float {
     }
     fn is_finite(&self) -> bool {
         Float::is_finite(self)
+    }
+    fn mul_add_assign(&mut self, a: &Self, b: &Self) {
+        *self += a * b;
     }
     fn to_decimal(&self, digits: u32) -> String {
         let digits = digits.max(1) as usize;
