@@ -235,6 +235,67 @@ impl<T: Real> VectorField<T> {
         })
     }
 
+    /// Buffered form of [`taylor_coefficient`](Self::taylor_coefficient) for the Taylor
+    /// integrators: writes coefficient `n` of f(x(t)) into `out[..DIM]`, reusing the values in
+    /// `out` and `scratch` (no allocation for MPFR numbers; products are fused where the scalar
+    /// can: [`Real::mul_add_assign`]). `series[i]` needs the coefficients `0..=n` of xᵢ. Cost:
+    /// one Cauchy product of length n + 1 per quadratic term of the table.
+    pub fn taylor_coefficient_into(
+        &self,
+        series: &[Vec<T>],
+        n: usize,
+        out: &mut [T],
+        scratch: &mut T,
+    ) {
+        for (k, o) in out.iter_mut().enumerate().take(DIM) {
+            let mut first = true;
+            for t in &self.terms[k] {
+                let term_value: &T = match t.j {
+                    Some(j) => {
+                        let (xi, xj) = (&series[t.i], &series[j]);
+                        // (xᵢxⱼ)ₙ = Σₘ xᵢ,ₘ xⱼ,ₙ₋ₘ
+                        scratch.clone_from(&xi[0]);
+                        *scratch *= &xj[n];
+                        for m in 1..=n {
+                            scratch.mul_add_assign(&xi[m], &xj[n - m]);
+                        }
+                        scratch
+                    }
+                    None => &series[t.i][n],
+                };
+                if first {
+                    o.clone_from(&t.c);
+                    *o *= term_value;
+                    first = false;
+                } else {
+                    o.mul_add_assign(&t.c, term_value);
+                }
+            }
+            if first {
+                // A component with no terms (never in the Euler–Poisson table).
+                *o = series[0][0].zero_like();
+            }
+        }
+    }
+
+    /// The Jacobian–vector product J(x)·v, from the table (one pass over the terms: the cost of
+    /// about one right-hand-side evaluation).
+    pub fn jacobian_vector_product(&self, x: &[T], v: &[T]) -> [T; DIM] {
+        std::array::from_fn(|k| {
+            let mut acc = x[0].zero_like();
+            for t in &self.terms[k] {
+                match t.j {
+                    // ∂(c xᵢ xⱼ)·v = c (vᵢ xⱼ + xᵢ vⱼ)
+                    Some(j) => {
+                        acc += t.c.clone() * (v[t.i].clone() * &x[j] + x[t.i].clone() * &v[j])
+                    }
+                    None => acc += t.c.clone() * &v[t.i],
+                }
+            }
+            acc
+        })
+    }
+
     /// The Jacobian ∂fₖ/∂xᵢ at x.
     pub fn jacobian(&self, x: &[T; DIM]) -> [[T; DIM]; DIM] {
         let zero = x[0].zero_like();

@@ -9,19 +9,22 @@ mod dop853;
 mod dopri5;
 mod ode_solvers_adapter;
 mod rk4;
+mod taylor;
 
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use rk4::Rk4;
+pub use taylor::{Taylor, MAX_ORDER as TAYLOR_MAX_ORDER};
 
 use std::fmt;
 use std::str::FromStr;
 
+use rug::Float;
 use serde::Serialize;
 
 use crate::error::DynamicsError;
 use crate::fields::Fields;
-use crate::scalar::Real;
+use crate::scalar::{bits_for_digits, DoubleDouble, Real};
 use crate::state::State;
 
 /// An initial-value problem: the fields and the state at t = 0.
@@ -144,16 +147,44 @@ pub enum MethodName {
     Rk4,
     Dopri5,
     Dop853,
+    /// Taylor series in f64 with compensated state ([`Taylor`]).
+    #[serde(rename = "taylor-f64")]
+    TaylorF64,
+    /// Taylor series in double-double (106 bits).
+    #[serde(rename = "taylor-dd")]
+    TaylorDd,
+    /// Taylor series in MPFR at [`MethodConfig::digits`] digits.
+    #[serde(rename = "taylor-mp")]
+    TaylorMp,
 }
 
 impl MethodName {
-    pub const ALL: [MethodName; 3] = [MethodName::Rk4, MethodName::Dopri5, MethodName::Dop853];
+    pub const ALL: [MethodName; 6] = [
+        MethodName::Rk4,
+        MethodName::Dopri5,
+        MethodName::Dop853,
+        MethodName::TaylorF64,
+        MethodName::TaylorDd,
+        MethodName::TaylorMp,
+    ];
 
     pub fn as_str(&self) -> &'static str {
         match self {
             MethodName::Rk4 => Rk4::NAME,
             MethodName::Dopri5 => Dopri5::NAME,
             MethodName::Dop853 => Dop853::NAME,
+            MethodName::TaylorF64 => Taylor::NAME_F64,
+            MethodName::TaylorDd => Taylor::NAME_DD,
+            MethodName::TaylorMp => Taylor::NAME_MP,
+        }
+    }
+
+    /// Bits of the scalar the method computes in, given the digits of a `taylor-mp` run.
+    pub fn working_bits(&self, digits: u32) -> u32 {
+        match self {
+            MethodName::TaylorDd => crate::scalar::double_double::DD_BITS,
+            MethodName::TaylorMp => bits_for_digits(digits),
+            _ => crate::scalar::F64_BITS,
         }
     }
 }
@@ -180,6 +211,11 @@ impl FromStr for MethodName {
     }
 }
 
+/// Decimal digits of `taylor-mp` when [`MethodConfig::digits`] is `None`.
+pub const DEFAULT_MP_DIGITS: u32 = 50;
+/// Largest accepted [`MethodConfig::digits`].
+pub const MAX_MP_DIGITS: u32 = 10_000;
+
 /// A method with its settings, chosen at run time.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct MethodConfig {
@@ -187,6 +223,11 @@ pub struct MethodConfig {
     pub tolerances: Tolerances,
     /// Fixed step for non-adaptive methods (RK4); `None`: derived from the tolerance.
     pub step: Option<f64>,
+    /// Decimal digits of the MPFR scalar of `taylor-mp` (ignored by the other methods);
+    /// `None`: [`DEFAULT_MP_DIGITS`]. Its tolerance is the config's (rtol, atol), with rtol not
+    /// below 2^-bits.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub digits: Option<u32>,
 }
 
 impl MethodConfig {
@@ -206,7 +247,62 @@ impl MethodConfig {
             method,
             tolerances,
             step,
+            digits: None,
         })
+    }
+
+    /// The same config with `digits` decimal digits for `taylor-mp` (checked: 10 to
+    /// [`MAX_MP_DIGITS`]).
+    pub fn with_digits(self, digits: u32) -> Result<Self, DynamicsError> {
+        if !(10..=MAX_MP_DIGITS).contains(&digits) {
+            return Err(DynamicsError::Settings(format!(
+                "digits must be between 10 and {MAX_MP_DIGITS}, got {digits}"
+            )));
+        }
+        Ok(Self {
+            digits: Some(digits),
+            ..self
+        })
+    }
+
+    /// Digits of `taylor-mp`: the configured ones or [`DEFAULT_MP_DIGITS`].
+    pub fn mp_digits(&self) -> u32 {
+        self.digits.unwrap_or(DEFAULT_MP_DIGITS)
+    }
+
+    /// Bits of the scalar this config computes in.
+    pub fn working_bits(&self) -> u32 {
+        self.method.working_bits(self.mp_digits())
+    }
+
+    /// Run the configured method from a high-precision problem and return high-precision states
+    /// (at the precision of `problem.initial`). The problem is rounded to the method's scalar
+    /// (f64, double-double, MPFR at the configured digits) and the states are widened exactly
+    /// (f64, double-double) or rounded (MPFR) to the problem's precision.
+    pub fn propagate_mp(
+        &self,
+        problem: &Problem<Float>,
+        grid: &OutputGrid,
+    ) -> Result<Solution<Float>, DynamicsError> {
+        let out_bits = problem.initial.omega[0].prec();
+        let widen = |x: &f64| Float::with_val(out_bits, *x);
+        match self.method {
+            MethodName::Rk4 | MethodName::Dopri5 | MethodName::Dop853 | MethodName::TaylorF64 => {
+                let p = map_problem(problem, Float::to_f64);
+                Ok(map_solution(self.propagate_f64(&p, grid)?, widen))
+            }
+            MethodName::TaylorDd => {
+                let p = map_problem(problem, DoubleDouble::from_float);
+                let sol = Taylor::new(self.tolerances).propagate_grid(&p, grid)?;
+                Ok(map_solution(sol, |x| x.to_float(out_bits)))
+            }
+            MethodName::TaylorMp => {
+                let bits = self.working_bits();
+                let p = map_problem(problem, |x| Float::with_val(bits, x));
+                let sol = Taylor::new(self.tolerances).propagate_grid(&p, grid)?;
+                Ok(map_solution(sol, |x| Float::with_val(out_bits, x)))
+            }
+        }
     }
 
     /// Run the configured method in f64.
@@ -221,6 +317,51 @@ impl MethodConfig {
             }
             MethodName::Dopri5 => Dopri5::new(self.tolerances).propagate_grid(problem, grid),
             MethodName::Dop853 => Dop853::new(self.tolerances).propagate_grid(problem, grid),
+            MethodName::TaylorF64 => Taylor::new(self.tolerances).propagate_grid(problem, grid),
+            MethodName::TaylorDd => {
+                let p = map_problem(problem, |x| DoubleDouble::from_f64_exact(*x));
+                let sol = Taylor::new(self.tolerances).propagate_grid(&p, grid)?;
+                Ok(map_solution(sol, Real::to_f64))
+            }
+            MethodName::TaylorMp => {
+                let bits = self.working_bits();
+                let p = map_problem(problem, |x| Float::with_val(bits, x));
+                let sol = Taylor::new(self.tolerances).propagate_grid(&p, grid)?;
+                Ok(map_solution(sol, Real::to_f64))
+            }
         }
+    }
+}
+
+/// The problem in another scalar.
+pub fn map_problem<T, U>(problem: &Problem<T>, f: impl Fn(&T) -> U) -> Problem<U> {
+    Problem {
+        fields: Fields {
+            a: f(&problem.fields.a),
+            b: f(&problem.fields.b),
+        },
+        initial: State {
+            omega: std::array::from_fn(|i| f(&problem.initial.omega[i])),
+            alpha: std::array::from_fn(|i| f(&problem.initial.alpha[i])),
+            beta: std::array::from_fn(|i| f(&problem.initial.beta[i])),
+        },
+    }
+}
+
+/// The solution with its states in another scalar.
+pub fn map_solution<T, U>(solution: Solution<T>, f: impl Fn(&T) -> U) -> Solution<U> {
+    Solution {
+        method: solution.method,
+        times: solution.times,
+        states: solution
+            .states
+            .iter()
+            .map(|s| State {
+                omega: std::array::from_fn(|i| f(&s.omega[i])),
+                alpha: std::array::from_fn(|i| f(&s.alpha[i])),
+                beta: std::array::from_fn(|i| f(&s.beta[i])),
+            })
+            .collect(),
+        stats: solution.stats,
     }
 }
