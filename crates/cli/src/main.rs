@@ -14,7 +14,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use commands::integrate;
+use commands::{explicit, integrate};
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
 const EXIT_ERROR: u8 = 2;
@@ -23,6 +23,7 @@ const TOP_EXAMPLES: &str = "\
 Examples:
   rsts integrate
   rsts integrate --a 1 --b 0.5 --omega -0.3,0.2,0.5 --alpha 1,0,0 --beta 0,1,0 --t-end 100 --samples 101 --format csv
+  rsts explicit --m -0.7092 --h 1.5643 --torus 3 --t-end 20 --samples 5 --digits 60 --format json
 
 Run `rsts <COMMAND> --help` for the options and more examples of each command.";
 
@@ -40,12 +41,16 @@ enum Command {
     /// Integrate the Euler–Poisson equations from one state and print the samples with H, K, G.
     #[command(after_help = integrate::EXAMPLES)]
     Integrate(integrate::Args),
+    /// Evaluate the closed-form motion on the invariant manifold N (f64 or any number of digits).
+    #[command(after_help = explicit::EXAMPLES)]
+    Explicit(explicit::Args),
 }
 
 impl Command {
     fn run(self, out: &mut dyn Write) -> anyhow::Result<()> {
         match self {
             Command::Integrate(args) => integrate::run(args, out),
+            Command::Explicit(args) => explicit::run(args, out),
         }
     }
 }

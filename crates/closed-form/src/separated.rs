@@ -112,7 +112,7 @@ pub fn segments<T: Real>(f: &Radicand<T>, g: &Radicand<T>) -> Vec<(Root<T>, Root
     let mut out = Vec::new();
     for w in finite.windows(2) {
         let (lo, hi) = (w[0].value(), w[1].value());
-        if !(lo < hi) {
+        if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
             continue;
         }
         let mid = (lo + &hi) / hi.lit(2.0);
@@ -235,7 +235,7 @@ impl<T: Real> SeparatedVariable<T> {
         // u̇² = K̃·L_κ(μ)·(−L_ν(λ))/16, K̃ = c_F c_G d_λ d_μ.
         let k_tilde = f.c.clone() * &g.c * &lambda.d * &mu.d;
         let u_dot2 = k_tilde * &lk_mu * (-(ln_lambda)) / one.lit(16.0);
-        if !(u_dot2 > zero) {
+        if u_dot2.partial_cmp(&zero) != Some(std::cmp::Ordering::Greater) {
             return Err(ClosedFormError::Internal(format!(
                 "{name}: non-positive frequency² {}",
                 u_dot2.to_f64()

@@ -54,7 +54,7 @@ impl<T: Real> Neg for Dual<T> {
     }
 }
 
-impl<'a, T: Real> Add<&'a Dual<T>> for Dual<T> {
+impl<T: Real> Add<&Dual<T>> for Dual<T> {
     type Output = Self;
     fn add(self, o: &Self) -> Self {
         Self {
@@ -63,7 +63,7 @@ impl<'a, T: Real> Add<&'a Dual<T>> for Dual<T> {
         }
     }
 }
-impl<'a, T: Real> Sub<&'a Dual<T>> for Dual<T> {
+impl<T: Real> Sub<&Dual<T>> for Dual<T> {
     type Output = Self;
     fn sub(self, o: &Self) -> Self {
         Self {
@@ -72,7 +72,7 @@ impl<'a, T: Real> Sub<&'a Dual<T>> for Dual<T> {
         }
     }
 }
-impl<'a, T: Real> Mul<&'a Dual<T>> for Dual<T> {
+impl<T: Real> Mul<&Dual<T>> for Dual<T> {
     type Output = Self;
     fn mul(self, o: &Self) -> Self {
         Self {
@@ -81,7 +81,7 @@ impl<'a, T: Real> Mul<&'a Dual<T>> for Dual<T> {
         }
     }
 }
-impl<'a, T: Real> Div<&'a Dual<T>> for Dual<T> {
+impl<T: Real> Div<&Dual<T>> for Dual<T> {
     type Output = Self;
     fn div(self, o: &Self) -> Self {
         let re = self.re / &o.re;
