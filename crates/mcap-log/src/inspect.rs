@@ -227,9 +227,7 @@ fn scan(buf: &[u8], on_msg: &mut dyn FnMut(Msg<'_>)) -> Scan {
             Ok(Record::Chunk { header, data }) => {
                 chunk_no += 1;
                 let (start, end) = (header.message_start_time, header.message_end_time);
-                let records: Result<Vec<Record<'_>>, mcap::McapError> =
-                    mcap::read::ChunkReader::new(header, &data).and_then(|r| r.collect());
-                match records {
+                match read_chunk(&header, &data) {
                     Ok(records) => {
                         for r in records {
                             s.record(r, on_msg);
@@ -265,6 +263,59 @@ fn scan(buf: &[u8], on_msg: &mut dyn FnMut(Msg<'_>)) -> Scan {
             .push("the data section has no end record (the writer did not finish)".into());
     }
     s
+}
+
+/// Largest uncompressed chunk accepted: 1 GiB, and at most 4096 times the compressed size
+/// plus 1 MiB. A damaged size field must not make the reader allocate without bound.
+fn chunk_size_plausible(uncompressed: u64, compressed: usize) -> bool {
+    uncompressed <= 1 << 30 && uncompressed <= 4096 * compressed as u64 + (1 << 20)
+}
+
+/// Decompresses a chunk, checks its size and CRC, and parses its records. Any failure
+/// rejects the whole chunk (its records are not trusted), as a plain message.
+fn read_chunk(
+    header: &mcap::records::ChunkHeader,
+    data: &[u8],
+) -> Result<Vec<Record<'static>>, String> {
+    let size = header.uncompressed_size;
+    if !chunk_size_plausible(size, data.len()) {
+        return Err(format!(
+            "implausible uncompressed size {size} for {} compressed bytes",
+            data.len()
+        ));
+    }
+    let raw: Vec<u8> = match header.compression.as_str() {
+        "" => data.to_vec(),
+        "zstd" => zstd::bulk::decompress(data, size as usize)
+            .map_err(|e| format!("zstd decompression failed: {e}"))?,
+        other => return Err(format!("unsupported chunk compression `{other}`")),
+    };
+    if raw.len() as u64 != size {
+        return Err(format!(
+            "decompressed to {} bytes, the chunk header says {size}",
+            raw.len()
+        ));
+    }
+    if header.uncompressed_crc != 0 {
+        let crc = crc32fast::hash(&raw);
+        if crc != header.uncompressed_crc {
+            return Err(format!(
+                "CRC mismatch (stored {:08x}, computed {crc:08x})",
+                header.uncompressed_crc
+            ));
+        }
+    }
+    mcap::read::LinearReader::sans_magic(&raw)
+        .map(|r| {
+            r.map(|r| r.into_owned())
+                .map_err(|e| format!("bad record in chunk: {e}"))
+        })
+        .collect()
+}
+
+/// Exact decimal seconds of a time in ns, e.g. `0.010010010`.
+pub fn format_ns(ns: u64) -> String {
+    format!("{}.{:09}", ns / 1_000_000_000, ns % 1_000_000_000)
 }
 
 fn ns_to_s(ns: u64) -> f64 {
@@ -554,7 +605,7 @@ impl Series {
     }
 
     /// CSV: a header line `log_time,<fields…>` then one line per message; `log_time` is in
-    /// seconds, nested fields are flattened (`omega.0`, `q.1.2`), missing or null values
+    /// seconds (exact decimal of the ns log time), nested fields are flattened (`omega.0`, `q.1.2`), missing or null values
     /// are empty.
     pub fn to_csv(&self) -> String {
         let cols = self.columns();
@@ -569,7 +620,7 @@ impl Series {
                 .into_iter()
                 .map(|(k, v)| (if k.is_empty() { "value".into() } else { k }, v))
                 .collect();
-            out.push_str(&p.t.to_string());
+            out.push_str(&format_ns(p.log_time_ns));
             for c in &cols {
                 out.push(',');
                 out.push_str(&flat.get(c).map(csv_field).unwrap_or_default());
@@ -622,8 +673,8 @@ impl fmt::Display for Summary {
             (Some(a), Some(b)) => writeln!(
                 f,
                 "time range: t = {} .. {} s ({} messages)",
-                ns_to_s(a),
-                ns_to_s(b),
+                format_ns(a),
+                format_ns(b),
                 self.message_count
             )?,
             _ => writeln!(f, "time range: none (no message recovered)")?,
@@ -664,7 +715,11 @@ impl fmt::Display for Summary {
                 .max()
                 .unwrap_or(0);
             for m in &self.error_maxima {
-                write!(f, "  {:w$}  {:.6e}  at t = {}", m.field, m.max_abs, m.at_t)?;
+                write!(
+                    f,
+                    "  {:w$}  {:.6e}  at t = {:.6}",
+                    m.field, m.max_abs, m.at_t
+                )?;
                 if m.non_finite > 0 {
                     write!(f, "  ({} non-finite values)", m.non_finite)?;
                 }
