@@ -123,9 +123,10 @@ fn json_has_every_field_and_the_requested_grid() {
 
 #[test]
 fn csv_has_a_header_and_one_row_per_sample() {
-    for n in [1usize, 2, 17] {
+    for (n, t_end) in [(1usize, 3.0), (2, 3.0), (17, 3.0), (4, 0.0)] {
         let ns = n.to_string();
-        let text = ok(&["--samples", &ns, "--t-end", "3", "--format", "csv"]);
+        let ts = t_end.to_string();
+        let text = ok(&["--samples", &ns, "--t-end", &ts, "--format", "csv"]);
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), n + 1, "N = {n}:\n{text}");
         let header: Vec<&str> = lines[0].split(',').collect();
@@ -140,7 +141,7 @@ fn csv_has_a_header_and_one_row_per_sample() {
             assert_eq!(fields.len(), 13, "{row}");
         }
         let last_t: f64 = lines[n].split(',').next().unwrap().parse().unwrap();
-        let expected = if n == 1 { 0.0 } else { 3.0 };
+        let expected = if n == 1 { 0.0 } else { t_end };
         assert!(
             (last_t - expected).abs() < 1e-9,
             "N = {n}: last t = {last_t}"

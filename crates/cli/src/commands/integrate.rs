@@ -85,7 +85,19 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             config.method
         );
     }
-    let solution = config.propagate_f64(&problem, &grid)?;
+    let mut solution = config.propagate_f64(&problem, &grid)?;
+    // With T = 0 the integrators return the initial state once; the grid still has N times.
+    if grid.t_end == 0.0 && solution.states.len() == 1 {
+        solution.times = grid.times();
+        solution.states = vec![problem.initial.clone(); grid.samples];
+    }
+    anyhow::ensure!(
+        solution.states.len() == grid.samples,
+        "{} returned {} samples instead of {}",
+        solution.method,
+        solution.states.len(),
+        grid.samples
+    );
     let samples: Vec<Sample> = solution
         .times
         .iter()
