@@ -9,6 +9,7 @@
 
 pub mod camera;
 pub mod constants;
+pub mod diagram;
 pub mod elliptic;
 pub mod error;
 pub mod formulas;
