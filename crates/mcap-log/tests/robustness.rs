@@ -243,3 +243,48 @@ fn flushed_log_of_a_killed_process_is_readable() {
         .unwrap();
     assert_eq!(errors.message_count, 60);
 }
+
+#[test]
+fn process_killed_mid_run_leaves_a_readable_prefix() {
+    watch_panics();
+    // `forget` skips every destructor, as a SIGKILL would: the buffered tail and the open
+    // chunk never reach the file, no summary is written.
+    let path = tmp("killed-mid-run.mcap");
+    let n = 600;
+    let all = samples(n);
+    let mut log =
+        TrajectoryLog::create(&path, &demo::metadata(&Precession::EXAMPLE, 10.0, n)).unwrap();
+    for s in &all[..400] {
+        log.log_sample(s).unwrap();
+    }
+    std::mem::forget(log);
+    let bytes = std::fs::read(&path).unwrap();
+    let s = check_damaged("killed-mid-run-copy.mcap", &bytes, 1 + 9 * n as u64).unwrap();
+    assert!(s.recovered);
+    assert!(!s.has_summary_section);
+    // At most one chunk (≈ 20 samples) plus the write buffer is lost.
+    let errors = s
+        .channels
+        .iter()
+        .find(|c| c.topic == topics::ERRORS)
+        .map_or(0, |c| c.message_count);
+    eprintln!("{errors} of 400 samples recovered");
+    assert!(
+        (340..=400).contains(&errors),
+        "{errors} of 400 samples recovered"
+    );
+    let series =
+        inspect::extract(tmp("killed-mid-run-copy.mcap"), topics::INTEGRATED_STATE).unwrap();
+    for (p, smp) in series.points.iter().zip(&all) {
+        assert_eq!(
+            p.value["omega"][2].as_f64().unwrap(),
+            smp.integrated.unwrap().omega[2]
+        );
+    }
+}
+
+#[test]
+fn log_is_send() {
+    fn is_send<T: Send>() {}
+    is_send::<TrajectoryLog>();
+}
