@@ -42,6 +42,9 @@ const MAX_STEPS: u64 = 100_000_000;
 #[derive(Clone, Copy, Debug)]
 pub struct Taylor {
     pub tolerances: Tolerances,
+    /// Keep the state and the time as compensated sums hi + lo (default). `false`: plain
+    /// summation x ← x + Σₖ xₖhᵏ, for comparison (see the tests and docs/taylor.md).
+    pub compensated: bool,
 }
 
 /// Error-free (in f64 and MPFR) sum: s + e = a + b, s = fl(a + b).
@@ -52,20 +55,25 @@ fn two_sum<T: Real>(a: &T, b: &T) -> (T, T) {
     (s, e)
 }
 
-/// A number kept as an unevaluated sum `hi + lo`.
+/// A number kept as an unevaluated sum `hi + lo` (lo stays 0 without compensation).
 #[derive(Clone, Debug)]
 struct Compensated<T> {
     hi: T,
     lo: T,
+    on: bool,
 }
 
 impl<T: Real> Compensated<T> {
-    fn new(x: T) -> Self {
+    fn new(x: T, on: bool) -> Self {
         let lo = x.zero_like();
-        Self { hi: x, lo }
+        Self { hi: x, lo, on }
     }
     /// self += d (d small compared with self).
     fn add(&mut self, d: &T) {
+        if !self.on {
+            self.hi += d;
+            return;
+        }
         let (s, e) = two_sum(&self.hi, &(self.lo.clone() + d));
         self.hi = s;
         self.lo = e;
@@ -81,7 +89,18 @@ impl Taylor {
     pub const NAME_MP: &'static str = "taylor-mp";
 
     pub fn new(tolerances: Tolerances) -> Self {
-        Self { tolerances }
+        Self {
+            tolerances,
+            compensated: true,
+        }
+    }
+
+    /// The same method with plain (uncompensated) summation of the state and the time.
+    pub fn uncompensated(self) -> Self {
+        Self {
+            compensated: false,
+            ..self
+        }
     }
 
     /// The name of the method in scalar `T`.
@@ -241,8 +260,11 @@ impl Taylor {
         let safety = (-0.7 / (order as f64 - 1.0)).exp() / std::f64::consts::E.powi(2);
 
         let start = Instant::now();
-        let mut state: Vec<Compensated<T>> = x0.into_iter().map(Compensated::new).collect();
-        let mut t = Compensated::new(like.zero_like());
+        let mut state: Vec<Compensated<T>> = x0
+            .into_iter()
+            .map(|x| Compensated::new(x, self.compensated))
+            .collect();
+        let mut t = Compensated::new(like.zero_like(), self.compensated);
         let mut stats = Stats::default();
         let mut times = Vec::with_capacity(grid.samples);
         let mut states = Vec::with_capacity(grid.samples);
