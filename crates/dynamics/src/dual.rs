@@ -178,6 +178,13 @@ impl<T: Real> Real for Dual<T> {
     }
 }
 
+impl<T: Real> From<T> for Dual<T> {
+    /// A constant embedded as a dual number.
+    fn from(re: T) -> Self {
+        Self::constant(re)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -194,12 +201,5 @@ mod tests {
         let a = Dual::new(0.3_f64, 1.0).atan2(&Dual::constant(-0.4));
         let g = |t: f64| t.atan2(-0.4);
         assert!((a.eps - (g(0.3 + h) - g(0.3 - h)) / (2.0 * h)).abs() < 1e-8);
-    }
-}
-
-impl<T: Real> From<T> for Dual<T> {
-    /// A constant embedded as a dual number.
-    fn from(re: T) -> Self {
-        Self::constant(re)
     }
 }

@@ -116,8 +116,8 @@ fn jacobian_matches_forward_differentiation() {
         let xd: [Dual<f64>; DIM] =
             std::array::from_fn(|k| Dual::new(x[k], if k == i { 1.0 } else { 0.0 }));
         let col = dfield.eval(&xd);
-        for k in 0..DIM {
-            assert!((col[k].eps - jac[k][i]).abs() < 1e-14, "J[{k}][{i}]");
+        for (k, (c, row)) in col.iter().zip(&jac).enumerate() {
+            assert!((c.eps - row[i]).abs() < 1e-14, "J[{k}][{i}]");
         }
     }
 }
