@@ -340,7 +340,7 @@ fn guarded<T>(path: &Path, f: impl FnOnce() -> Result<T, InspectError>) -> Resul
 }
 
 /// Flattens a JSON value into `(path, leaf)` pairs: object keys and array indices joined by
-/// `.` (`q.0.2`, `quaternion.w`); a scalar at the top has the path `""`.
+/// `.` (`gamma.2`, `quaternion.w`); a scalar at the top has the path `""`.
 pub fn flatten(value: &Value) -> Vec<(String, Value)> {
     fn go(prefix: &str, v: &Value, out: &mut Vec<(String, Value)>) {
         let join = |k: &str| {
@@ -605,7 +605,7 @@ impl Series {
     }
 
     /// CSV: a header line `log_time,<fields…>` then one line per message; `log_time` is in
-    /// seconds (exact decimal of the ns log time), nested fields are flattened (`omega.0`, `q.1.2`), missing or null values
+    /// seconds (exact decimal of the ns log time), nested fields are flattened (`omega.0`, `beta.2`), missing or null values
     /// are empty.
     pub fn to_csv(&self) -> String {
         let cols = self.columns();

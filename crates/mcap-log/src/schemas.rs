@@ -55,192 +55,867 @@ pub const FRAME_TRANSFORM: &str = r#"{
   }
 }"#;
 
-/// `foxglove.SceneUpdate`, with the primitives of `foxglove.SceneEntity` spelled out.
+/// `foxglove.SceneUpdate`, every sub-schema inlined (no `$ref`: Foxglove's JSON-schema
+/// parser does not resolve references), as in Foxglove's published schema.
 pub const SCENE_UPDATE: &str = r##"{
-  "title": "foxglove.SceneUpdate",
-  "description": "An update to the entities displayed in a 3D scene",
-  "type": "object",
-  "$defs": {
-    "time": {
-      "type": "object", "title": "time",
+ "title": "foxglove.SceneUpdate",
+ "description": "An update to the entities displayed in a 3D scene",
+ "type": "object",
+ "properties": {
+  "deletions": {
+   "type": "array",
+   "items": {
+    "title": "foxglove.SceneEntityDeletion",
+    "type": "object",
+    "properties": {
+     "timestamp": {
+      "type": "object",
+      "title": "time",
       "properties": {
-        "sec": {"type": "integer", "minimum": 0},
-        "nsec": {"type": "integer", "minimum": 0, "maximum": 999999999}
+       "sec": {
+        "type": "integer",
+        "minimum": 0
+       },
+       "nsec": {
+        "type": "integer",
+        "minimum": 0,
+        "maximum": 999999999
+       }
       }
-    },
-    "duration": {
-      "type": "object", "title": "duration",
-      "properties": {
-        "sec": {"type": "integer"},
-        "nsec": {"type": "integer", "minimum": 0, "maximum": 999999999}
-      }
-    },
-    "vector3": {
-      "title": "foxglove.Vector3", "type": "object",
-      "properties": {"x": {"type": "number"}, "y": {"type": "number"}, "z": {"type": "number"}}
-    },
-    "point3": {
-      "title": "foxglove.Point3", "type": "object",
-      "properties": {"x": {"type": "number"}, "y": {"type": "number"}, "z": {"type": "number"}}
-    },
-    "quaternion": {
-      "title": "foxglove.Quaternion", "type": "object",
-      "properties": {
-        "x": {"type": "number"}, "y": {"type": "number"},
-        "z": {"type": "number"}, "w": {"type": "number"}
-      }
-    },
-    "pose": {
-      "title": "foxglove.Pose", "type": "object",
-      "properties": {
-        "position": {"$ref": "#/$defs/vector3"},
-        "orientation": {"$ref": "#/$defs/quaternion"}
-      }
-    },
-    "color": {
-      "title": "foxglove.Color", "type": "object",
-      "properties": {
-        "r": {"type": "number"}, "g": {"type": "number"},
-        "b": {"type": "number"}, "a": {"type": "number"}
-      }
-    },
-    "arrow": {
-      "title": "foxglove.ArrowPrimitive", "type": "object",
-      "properties": {
-        "pose": {"$ref": "#/$defs/pose"},
-        "shaft_length": {"type": "number"},
-        "shaft_diameter": {"type": "number"},
-        "head_length": {"type": "number"},
-        "head_diameter": {"type": "number"},
-        "color": {"$ref": "#/$defs/color"}
-      }
-    },
-    "cube": {
-      "title": "foxglove.CubePrimitive", "type": "object",
-      "properties": {
-        "pose": {"$ref": "#/$defs/pose"},
-        "size": {"$ref": "#/$defs/vector3"},
-        "color": {"$ref": "#/$defs/color"}
-      }
-    },
-    "sphere": {
-      "title": "foxglove.SpherePrimitive", "type": "object",
-      "properties": {
-        "pose": {"$ref": "#/$defs/pose"},
-        "size": {"$ref": "#/$defs/vector3"},
-        "color": {"$ref": "#/$defs/color"}
-      }
-    },
-    "cylinder": {
-      "title": "foxglove.CylinderPrimitive", "type": "object",
-      "properties": {
-        "pose": {"$ref": "#/$defs/pose"},
-        "size": {"$ref": "#/$defs/vector3"},
-        "bottom_scale": {"type": "number"},
-        "top_scale": {"type": "number"},
-        "color": {"$ref": "#/$defs/color"}
-      }
-    },
-    "line": {
-      "title": "foxglove.LinePrimitive", "type": "object",
-      "properties": {
-        "type": {
-          "title": "foxglove.LineType",
-          "description": "An enumeration indicating how input points should be interpreted to create lines",
-          "oneOf": [
-            {"title": "LINE_STRIP", "const": 0, "description": "Connected line segments: 0-1, 1-2, ..., (n-1)-n"},
-            {"title": "LINE_LOOP", "const": 1, "description": "Closed polygon: 0-1, 1-2, ..., (n-1)-n, n-0"},
-            {"title": "LINE_LIST", "const": 2, "description": "Individual line segments: 0-1, 2-3, 4-5, ..."}
-          ]
-        },
-        "pose": {"$ref": "#/$defs/pose"},
-        "thickness": {"type": "number", "minimum": 0},
-        "scale_invariant": {"type": "boolean"},
-        "points": {"type": "array", "items": {"$ref": "#/$defs/point3"}},
-        "color": {"$ref": "#/$defs/color"},
-        "colors": {"type": "array", "items": {"$ref": "#/$defs/color"}},
-        "indices": {"type": "array", "items": {"type": "integer", "minimum": 0}}
-      }
-    },
-    "triangles": {
-      "title": "foxglove.TriangleListPrimitive", "type": "object",
-      "properties": {
-        "pose": {"$ref": "#/$defs/pose"},
-        "points": {"type": "array", "items": {"$ref": "#/$defs/point3"}},
-        "color": {"$ref": "#/$defs/color"},
-        "colors": {"type": "array", "items": {"$ref": "#/$defs/color"}},
-        "indices": {"type": "array", "items": {"type": "integer", "minimum": 0}}
-      }
-    },
-    "text": {
-      "title": "foxglove.TextPrimitive", "type": "object",
-      "properties": {
-        "pose": {"$ref": "#/$defs/pose"},
-        "billboard": {"type": "boolean"},
-        "font_size": {"type": "number"},
-        "scale_invariant": {"type": "boolean"},
-        "color": {"$ref": "#/$defs/color"},
-        "text": {"type": "string"}
-      }
-    },
-    "model": {
-      "title": "foxglove.ModelPrimitive", "type": "object",
-      "properties": {
-        "pose": {"$ref": "#/$defs/pose"},
-        "scale": {"$ref": "#/$defs/vector3"},
-        "color": {"$ref": "#/$defs/color"},
-        "override_color": {"type": "boolean"},
-        "url": {"type": "string"},
-        "media_type": {"type": "string"},
-        "data": {"type": "string", "contentEncoding": "base64"}
-      }
-    },
-    "entity": {
-      "title": "foxglove.SceneEntity", "type": "object",
-      "properties": {
-        "timestamp": {"$ref": "#/$defs/time"},
-        "frame_id": {"type": "string"},
-        "id": {"type": "string"},
-        "lifetime": {"$ref": "#/$defs/duration"},
-        "frame_locked": {"type": "boolean"},
-        "metadata": {
-          "type": "array",
-          "items": {
-            "title": "foxglove.KeyValuePair", "type": "object",
-            "properties": {"key": {"type": "string"}, "value": {"type": "string"}}
-          }
-        },
-        "arrows": {"type": "array", "items": {"$ref": "#/$defs/arrow"}},
-        "cubes": {"type": "array", "items": {"$ref": "#/$defs/cube"}},
-        "spheres": {"type": "array", "items": {"$ref": "#/$defs/sphere"}},
-        "cylinders": {"type": "array", "items": {"$ref": "#/$defs/cylinder"}},
-        "lines": {"type": "array", "items": {"$ref": "#/$defs/line"}},
-        "triangles": {"type": "array", "items": {"$ref": "#/$defs/triangles"}},
-        "texts": {"type": "array", "items": {"$ref": "#/$defs/text"}},
-        "models": {"type": "array", "items": {"$ref": "#/$defs/model"}}
-      }
+     },
+     "type": {
+      "title": "foxglove.SceneEntityDeletionType",
+      "oneOf": [
+       {
+        "title": "MATCHING_ID",
+        "const": 0
+       },
+       {
+        "title": "ALL",
+        "const": 1
+       }
+      ]
+     },
+     "id": {
+      "type": "string"
+     }
     }
+   }
   },
-  "properties": {
-    "deletions": {
+  "entities": {
+   "type": "array",
+   "items": {
+    "title": "foxglove.SceneEntity",
+    "type": "object",
+    "properties": {
+     "timestamp": {
+      "type": "object",
+      "title": "time",
+      "properties": {
+       "sec": {
+        "type": "integer",
+        "minimum": 0
+       },
+       "nsec": {
+        "type": "integer",
+        "minimum": 0,
+        "maximum": 999999999
+       }
+      }
+     },
+     "frame_id": {
+      "type": "string"
+     },
+     "id": {
+      "type": "string"
+     },
+     "lifetime": {
+      "type": "object",
+      "title": "duration",
+      "properties": {
+       "sec": {
+        "type": "integer"
+       },
+       "nsec": {
+        "type": "integer",
+        "minimum": 0,
+        "maximum": 999999999
+       }
+      }
+     },
+     "frame_locked": {
+      "type": "boolean"
+     },
+     "metadata": {
       "type": "array",
       "items": {
-        "title": "foxglove.SceneEntityDeletion", "type": "object",
-        "properties": {
-          "timestamp": {"$ref": "#/$defs/time"},
-          "type": {
-            "title": "foxglove.SceneEntityDeletionType",
-            "oneOf": [
-              {"title": "MATCHING_ID", "const": 0},
-              {"title": "ALL", "const": 1}
-            ]
-          },
-          "id": {"type": "string"}
+       "title": "foxglove.KeyValuePair",
+       "type": "object",
+       "properties": {
+        "key": {
+         "type": "string"
+        },
+        "value": {
+         "type": "string"
         }
+       }
       }
-    },
-    "entities": {"type": "array", "items": {"$ref": "#/$defs/entity"}}
+     },
+     "arrows": {
+      "type": "array",
+      "items": {
+       "title": "foxglove.ArrowPrimitive",
+       "type": "object",
+       "properties": {
+        "pose": {
+         "title": "foxglove.Pose",
+         "type": "object",
+         "properties": {
+          "position": {
+           "title": "foxglove.Vector3",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            }
+           }
+          },
+          "orientation": {
+           "title": "foxglove.Quaternion",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            },
+            "w": {
+             "type": "number"
+            }
+           }
+          }
+         }
+        },
+        "shaft_length": {
+         "type": "number"
+        },
+        "shaft_diameter": {
+         "type": "number"
+        },
+        "head_length": {
+         "type": "number"
+        },
+        "head_diameter": {
+         "type": "number"
+        },
+        "color": {
+         "title": "foxglove.Color",
+         "type": "object",
+         "properties": {
+          "r": {
+           "type": "number"
+          },
+          "g": {
+           "type": "number"
+          },
+          "b": {
+           "type": "number"
+          },
+          "a": {
+           "type": "number"
+          }
+         }
+        }
+       }
+      }
+     },
+     "cubes": {
+      "type": "array",
+      "items": {
+       "title": "foxglove.CubePrimitive",
+       "type": "object",
+       "properties": {
+        "pose": {
+         "title": "foxglove.Pose",
+         "type": "object",
+         "properties": {
+          "position": {
+           "title": "foxglove.Vector3",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            }
+           }
+          },
+          "orientation": {
+           "title": "foxglove.Quaternion",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            },
+            "w": {
+             "type": "number"
+            }
+           }
+          }
+         }
+        },
+        "size": {
+         "title": "foxglove.Vector3",
+         "type": "object",
+         "properties": {
+          "x": {
+           "type": "number"
+          },
+          "y": {
+           "type": "number"
+          },
+          "z": {
+           "type": "number"
+          }
+         }
+        },
+        "color": {
+         "title": "foxglove.Color",
+         "type": "object",
+         "properties": {
+          "r": {
+           "type": "number"
+          },
+          "g": {
+           "type": "number"
+          },
+          "b": {
+           "type": "number"
+          },
+          "a": {
+           "type": "number"
+          }
+         }
+        }
+       }
+      }
+     },
+     "spheres": {
+      "type": "array",
+      "items": {
+       "title": "foxglove.SpherePrimitive",
+       "type": "object",
+       "properties": {
+        "pose": {
+         "title": "foxglove.Pose",
+         "type": "object",
+         "properties": {
+          "position": {
+           "title": "foxglove.Vector3",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            }
+           }
+          },
+          "orientation": {
+           "title": "foxglove.Quaternion",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            },
+            "w": {
+             "type": "number"
+            }
+           }
+          }
+         }
+        },
+        "size": {
+         "title": "foxglove.Vector3",
+         "type": "object",
+         "properties": {
+          "x": {
+           "type": "number"
+          },
+          "y": {
+           "type": "number"
+          },
+          "z": {
+           "type": "number"
+          }
+         }
+        },
+        "color": {
+         "title": "foxglove.Color",
+         "type": "object",
+         "properties": {
+          "r": {
+           "type": "number"
+          },
+          "g": {
+           "type": "number"
+          },
+          "b": {
+           "type": "number"
+          },
+          "a": {
+           "type": "number"
+          }
+         }
+        }
+       }
+      }
+     },
+     "cylinders": {
+      "type": "array",
+      "items": {
+       "title": "foxglove.CylinderPrimitive",
+       "type": "object",
+       "properties": {
+        "pose": {
+         "title": "foxglove.Pose",
+         "type": "object",
+         "properties": {
+          "position": {
+           "title": "foxglove.Vector3",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            }
+           }
+          },
+          "orientation": {
+           "title": "foxglove.Quaternion",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            },
+            "w": {
+             "type": "number"
+            }
+           }
+          }
+         }
+        },
+        "size": {
+         "title": "foxglove.Vector3",
+         "type": "object",
+         "properties": {
+          "x": {
+           "type": "number"
+          },
+          "y": {
+           "type": "number"
+          },
+          "z": {
+           "type": "number"
+          }
+         }
+        },
+        "bottom_scale": {
+         "type": "number"
+        },
+        "top_scale": {
+         "type": "number"
+        },
+        "color": {
+         "title": "foxglove.Color",
+         "type": "object",
+         "properties": {
+          "r": {
+           "type": "number"
+          },
+          "g": {
+           "type": "number"
+          },
+          "b": {
+           "type": "number"
+          },
+          "a": {
+           "type": "number"
+          }
+         }
+        }
+       }
+      }
+     },
+     "lines": {
+      "type": "array",
+      "items": {
+       "title": "foxglove.LinePrimitive",
+       "type": "object",
+       "properties": {
+        "type": {
+         "title": "foxglove.LineType",
+         "description": "An enumeration indicating how input points should be interpreted to create lines",
+         "oneOf": [
+          {
+           "title": "LINE_STRIP",
+           "const": 0,
+           "description": "Connected line segments: 0-1, 1-2, ..., (n-1)-n"
+          },
+          {
+           "title": "LINE_LOOP",
+           "const": 1,
+           "description": "Closed polygon: 0-1, 1-2, ..., (n-1)-n, n-0"
+          },
+          {
+           "title": "LINE_LIST",
+           "const": 2,
+           "description": "Individual line segments: 0-1, 2-3, 4-5, ..."
+          }
+         ]
+        },
+        "pose": {
+         "title": "foxglove.Pose",
+         "type": "object",
+         "properties": {
+          "position": {
+           "title": "foxglove.Vector3",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            }
+           }
+          },
+          "orientation": {
+           "title": "foxglove.Quaternion",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            },
+            "w": {
+             "type": "number"
+            }
+           }
+          }
+         }
+        },
+        "thickness": {
+         "type": "number",
+         "minimum": 0
+        },
+        "scale_invariant": {
+         "type": "boolean"
+        },
+        "points": {
+         "type": "array",
+         "items": {
+          "title": "foxglove.Point3",
+          "type": "object",
+          "properties": {
+           "x": {
+            "type": "number"
+           },
+           "y": {
+            "type": "number"
+           },
+           "z": {
+            "type": "number"
+           }
+          }
+         }
+        },
+        "color": {
+         "title": "foxglove.Color",
+         "type": "object",
+         "properties": {
+          "r": {
+           "type": "number"
+          },
+          "g": {
+           "type": "number"
+          },
+          "b": {
+           "type": "number"
+          },
+          "a": {
+           "type": "number"
+          }
+         }
+        },
+        "colors": {
+         "type": "array",
+         "items": {
+          "title": "foxglove.Color",
+          "type": "object",
+          "properties": {
+           "r": {
+            "type": "number"
+           },
+           "g": {
+            "type": "number"
+           },
+           "b": {
+            "type": "number"
+           },
+           "a": {
+            "type": "number"
+           }
+          }
+         }
+        },
+        "indices": {
+         "type": "array",
+         "items": {
+          "type": "integer",
+          "minimum": 0
+         }
+        }
+       }
+      }
+     },
+     "triangles": {
+      "type": "array",
+      "items": {
+       "title": "foxglove.TriangleListPrimitive",
+       "type": "object",
+       "properties": {
+        "pose": {
+         "title": "foxglove.Pose",
+         "type": "object",
+         "properties": {
+          "position": {
+           "title": "foxglove.Vector3",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            }
+           }
+          },
+          "orientation": {
+           "title": "foxglove.Quaternion",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            },
+            "w": {
+             "type": "number"
+            }
+           }
+          }
+         }
+        },
+        "points": {
+         "type": "array",
+         "items": {
+          "title": "foxglove.Point3",
+          "type": "object",
+          "properties": {
+           "x": {
+            "type": "number"
+           },
+           "y": {
+            "type": "number"
+           },
+           "z": {
+            "type": "number"
+           }
+          }
+         }
+        },
+        "color": {
+         "title": "foxglove.Color",
+         "type": "object",
+         "properties": {
+          "r": {
+           "type": "number"
+          },
+          "g": {
+           "type": "number"
+          },
+          "b": {
+           "type": "number"
+          },
+          "a": {
+           "type": "number"
+          }
+         }
+        },
+        "colors": {
+         "type": "array",
+         "items": {
+          "title": "foxglove.Color",
+          "type": "object",
+          "properties": {
+           "r": {
+            "type": "number"
+           },
+           "g": {
+            "type": "number"
+           },
+           "b": {
+            "type": "number"
+           },
+           "a": {
+            "type": "number"
+           }
+          }
+         }
+        },
+        "indices": {
+         "type": "array",
+         "items": {
+          "type": "integer",
+          "minimum": 0
+         }
+        }
+       }
+      }
+     },
+     "texts": {
+      "type": "array",
+      "items": {
+       "title": "foxglove.TextPrimitive",
+       "type": "object",
+       "properties": {
+        "pose": {
+         "title": "foxglove.Pose",
+         "type": "object",
+         "properties": {
+          "position": {
+           "title": "foxglove.Vector3",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            }
+           }
+          },
+          "orientation": {
+           "title": "foxglove.Quaternion",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            },
+            "w": {
+             "type": "number"
+            }
+           }
+          }
+         }
+        },
+        "billboard": {
+         "type": "boolean"
+        },
+        "font_size": {
+         "type": "number"
+        },
+        "scale_invariant": {
+         "type": "boolean"
+        },
+        "color": {
+         "title": "foxglove.Color",
+         "type": "object",
+         "properties": {
+          "r": {
+           "type": "number"
+          },
+          "g": {
+           "type": "number"
+          },
+          "b": {
+           "type": "number"
+          },
+          "a": {
+           "type": "number"
+          }
+         }
+        },
+        "text": {
+         "type": "string"
+        }
+       }
+      }
+     },
+     "models": {
+      "type": "array",
+      "items": {
+       "title": "foxglove.ModelPrimitive",
+       "type": "object",
+       "properties": {
+        "pose": {
+         "title": "foxglove.Pose",
+         "type": "object",
+         "properties": {
+          "position": {
+           "title": "foxglove.Vector3",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            }
+           }
+          },
+          "orientation": {
+           "title": "foxglove.Quaternion",
+           "type": "object",
+           "properties": {
+            "x": {
+             "type": "number"
+            },
+            "y": {
+             "type": "number"
+            },
+            "z": {
+             "type": "number"
+            },
+            "w": {
+             "type": "number"
+            }
+           }
+          }
+         }
+        },
+        "scale": {
+         "title": "foxglove.Vector3",
+         "type": "object",
+         "properties": {
+          "x": {
+           "type": "number"
+          },
+          "y": {
+           "type": "number"
+          },
+          "z": {
+           "type": "number"
+          }
+         }
+        },
+        "color": {
+         "title": "foxglove.Color",
+         "type": "object",
+         "properties": {
+          "r": {
+           "type": "number"
+          },
+          "g": {
+           "type": "number"
+          },
+          "b": {
+           "type": "number"
+          },
+          "a": {
+           "type": "number"
+          }
+         }
+        },
+        "override_color": {
+         "type": "boolean"
+        },
+        "url": {
+         "type": "string"
+        },
+        "media_type": {
+         "type": "string"
+        },
+        "data": {
+         "type": "string",
+         "contentEncoding": "base64"
+        }
+       }
+      }
+     }
+    }
+   }
   }
+ }
 }"##;
 
 /// `rsts.BodyState`: one body state of the exact or the integrated motion.
@@ -250,7 +925,9 @@ pub const BODY_STATE: &str = r#"{
   "type": "object",
   "properties": {
     "t": {"type": "number", "description": "motion time (s)"},
-    "q": {"type": "array", "description": "orientation matrix Q, row-major", "items": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3}, "minItems": 3, "maxItems": 3},
+    "alpha": {"type": "array", "description": "row 1 of Q: the fixed axis alpha in the body frame", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
+    "beta": {"type": "array", "description": "row 2 of Q: the fixed axis beta in the body frame", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
+    "gamma": {"type": "array", "description": "row 3 of Q: the fixed axis gamma in the body frame", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
     "quaternion": {"type": "object", "description": "attitude quaternion (body to world) from Q", "properties": {"x": {"type": "number"}, "y": {"type": "number"}, "z": {"type": "number"}, "w": {"type": "number"}}},
     "omega": {"type": "array", "description": "angular velocity, body frame", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
     "omega_fixed": {"type": "array", "description": "angular velocity, fixed frame (Q omega)", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
@@ -284,7 +961,7 @@ pub const METADATA: &str = r#"{
   "type": "object",
   "properties": {
     "software_version": {"type": "string"},
-    "case": {"type": "object"},
-    "integrator": {"type": "object"}
+    "case": {"type": "object", "description": "the case: a, b, m, h, torus, phases, t_end, samples", "properties": {}},
+    "integrator": {"type": "object", "description": "method, rtol, atol, digits", "properties": {}}
   }
 }"#;

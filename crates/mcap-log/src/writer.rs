@@ -487,7 +487,9 @@ impl TrajectoryLog {
             };
             let st = json!({
                 "t": sample.t,
-                "q": s.q,
+                "alpha": s.q[0],
+                "beta": s.q[1],
+                "gamma": s.q[2],
                 "quaternion": quat,
                 "omega": s.omega,
                 "omega_fixed": s.omega_fixed,

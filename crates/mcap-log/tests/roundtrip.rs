@@ -170,8 +170,11 @@ fn values_equal_what_was_logged() {
             let v = json(msg);
             // serde_json round-trips f64 exactly.
             assert_eq!(v["t"].as_f64().unwrap(), s.t);
-            let q: [[f64; 3]; 3] = serde_json::from_value(v["q"].clone()).unwrap();
-            assert_eq!(q, st.q);
+            // Rows of Q as alpha, beta, gamma.
+            for (i, row) in ["alpha", "beta", "gamma"].into_iter().enumerate() {
+                let r: [f64; 3] = serde_json::from_value(v[row].clone()).unwrap();
+                assert_eq!(r, st.q[i], "{row}");
+            }
             let w: [f64; 3] = serde_json::from_value(v["omega"].clone()).unwrap();
             assert_eq!(w, st.omega);
             let wf: [f64; 3] = serde_json::from_value(v["omega_fixed"].clone()).unwrap();
@@ -420,7 +423,7 @@ fn summarize_and_extract_a_complete_file() {
     let header: Vec<&str> = rows.next().unwrap().split(',').collect();
     assert_eq!(header[0], "log_time");
     let col = header.iter().position(|h| *h == "omega.0").unwrap();
-    let qcol = header.iter().position(|h| *h == "q.1.2").unwrap();
+    let qcol = header.iter().position(|h| *h == "beta.2").unwrap();
     for (row, smp) in rows.zip(&samples) {
         let f: Vec<&str> = row.split(',').collect();
         assert_eq!(f.len(), header.len());
