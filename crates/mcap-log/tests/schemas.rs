@@ -1,6 +1,10 @@
-//! The JSON Schemas are in the subset Foxglove's JSON-schema parser understands (every
-//! field typed, no `$ref`, arrays of primitives or of objects, enums as `oneOf` numeric
-//! consts), and every logged message conforms to the schema of its channel.
+//! The JSON Schemas are in the subset that the JSON-schema parser of Foxglove and Lichtblick
+//! (`parseJsonSchema` in their mcap-support package) accepts — it throws, and the channel
+//! cannot be shown, otherwise: every object has `properties`; every field has a `type` among
+//! boolean/string/number/integer/object/array, or is an enum given as `oneOf` alternatives
+//! with a numeric `const` and a `title`; no `$ref`; array items are primitives or objects
+//! (no arrays of arrays); strings have no `contentEncoding` other than `base64`. And every
+//! logged message conforms to the schema of its channel.
 
 mod common;
 
@@ -23,8 +27,9 @@ fn check_supported(schema: &Value, path: &str) {
             let alts = alts.as_array().unwrap();
             assert!(!alts.is_empty());
             assert!(
-                alts.iter().all(|a| a["const"].is_u64()),
-                "{p}: oneOf must be numeric consts"
+                alts.iter()
+                    .all(|a| a["const"].is_u64() && a["title"].is_string()),
+                "{p}: oneOf must be titled numeric consts"
             );
             continue;
         }
@@ -32,6 +37,13 @@ fn check_supported(schema: &Value, path: &str) {
             .as_str()
             .unwrap_or_else(|| panic!("{p}: field without a type"));
         match ty {
+            "string" => {
+                let enc = field.get("contentEncoding");
+                assert!(
+                    enc.is_none() || enc == Some(&Value::from("base64")),
+                    "{p}: {enc:?}"
+                );
+            }
             t if PRIMITIVES.contains(&t) => {}
             "object" => check_supported(field, &p),
             "array" => {
