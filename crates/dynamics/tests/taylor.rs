@@ -384,3 +384,68 @@ fn compensated_summation_lowers_the_f64_error_floor() {
     let ratio = log_ratio.exp();
     assert!(ratio >= 3.0, "compensation gains only a factor {ratio}");
 }
+
+/// Cross-check against an external reference trajectory (format `rsts-reference-1`, see
+/// scripts/peer_heyoka.py; e.g. one written by heyoka in MPFR):
+/// `RSTS_REFERENCE=ref.json cargo test -p rsts-dynamics --release --test taylor -- --ignored`.
+/// Runs taylor-mp at 50 digits and taylor-f64 at 1e-15 from the file's initial state (parsed at
+/// 300 bits) and requires agreement to 1e-40 and 1e-13 at every sample.
+#[test]
+#[ignore = "needs RSTS_REFERENCE=<reference JSON file>"]
+fn external_reference_agrees() {
+    let path = std::env::var("RSTS_REFERENCE").expect("set RSTS_REFERENCE to a reference file");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(json["format"], "rsts-reference-1");
+    let num = |v: &serde_json::Value| -> Float {
+        let s = v.as_str().expect("numbers are decimal strings");
+        Float::with_val(CMP_BITS, Float::parse(s).unwrap())
+    };
+    let times: Vec<f64> = json["times"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| num(t).to_f64())
+        .collect();
+    let states: Vec<State<Float>> = json["states"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| {
+            let x: Vec<Float> = s.as_array().unwrap().iter().map(num).collect();
+            State::from_slice(&x)
+        })
+        .collect();
+    let n = times.len();
+    let grid = OutputGrid::new(times[n - 1], n).unwrap();
+    for (k, t) in times.iter().enumerate() {
+        assert!(
+            (grid.time(k) - t).abs() <= 1e-15 * t.max(1.0),
+            "times must be evenly spaced"
+        );
+    }
+    let reference = Solution {
+        method: "reference",
+        times: grid.times(),
+        states,
+        stats: Default::default(),
+    };
+    let problem = Problem {
+        fields: Fields {
+            a: num(&json["a"]),
+            b: num(&json["b"]),
+        },
+        initial: reference.states[0].clone(),
+    };
+    for (method, tol, digits, bound) in [
+        (MethodName::TaylorMp, 1e-50, Some(50), 1e-40),
+        (MethodName::TaylorF64, 1e-15, None, 1e-13),
+    ] {
+        let sol = config(method, tol, digits)
+            .propagate_mp(&problem, &grid)
+            .unwrap();
+        let err = max_diff(&reference, &sol);
+        eprintln!("{method} vs {path}: {err:e}");
+        assert!(err < bound, "{method}: {err:e}");
+    }
+}
