@@ -69,7 +69,7 @@ pub struct DiagramOptions {
     pub m_range: Option<(f64, f64)>,
     /// The h-range shown; `None`: from [`default_window`].
     pub h_range: Option<(f64, f64)>,
-    /// Size of the picture in px (at least 400 × 300).
+    /// Size of the picture in px (600 × 400 to 8000 × 8000; the legend takes 270 px on the right).
     pub width: u32,
     pub height: u32,
     /// Replaces the title "Admissible region and cameras, a = …, b = …".
@@ -91,16 +91,19 @@ impl Default for DiagramOptions {
 /// The ranges ((m_lo, m_hi), (h_lo, h_hi)) of a picture.
 pub type Window = ((f64, f64), (f64, f64));
 
-/// A window ((m_lo, m_hi), (h_lo, h_hi)) that shows all nine cameras and the ends of the inner
-/// half-lines: m from 1.5·max(1/(a−b), 1/(2b)) to the left (camera VI lies along the hyperbola
-/// beyond its tangency with h = −r²m + 2b at m = −1/(2b)) to 1.15/(a−b) on the right (where
-/// h = −r²m + 2b starts on the boundary); h from below the corner (1/(a+b), −a−b) of the
-/// boundary to above the hyperbola at the left edge.
+/// A window ((m_lo, m_hi), (h_lo, h_hi)) that shows all nine cameras. With R = min(1/(a−b),
+/// 3/(a+b)) (R = 1/(a−b) is where the inner half-lines start on the boundary; for b close to a
+/// they start far out and the window stops at 3/(a+b)): m from −1.5·max(R, 1/(2b)) (camera VI
+/// lies along the hyperbola beyond its tangency with h = −r²m + 2b at m = −1/(2b)) to 1.15·R;
+/// h from below the corner (1/(a+b), −a−b) of the boundary to above the hyperbola at the left
+/// edge. For a = 1, b = 1/2: m ∈ [−3, 2.3]. Cameras too small to see at this scale get a zoomed
+/// inset in [`diagram_svg`].
 pub fn default_window(a: f64, b: f64) -> Result<Window, ClosedFormError> {
     check_fields(a, b)?;
     let g = Geometry::new(a, b);
-    let m_lo = -1.5 * (1.0 / (a - b)).max(1.0 / (2.0 * b));
-    let m_hi = 1.15 / (a - b);
+    let reach = (1.0 / (a - b)).min(3.0 / (a + b));
+    let m_lo = -1.5 * reach.max(1.0 / (2.0 * b));
+    let m_hi = 1.15 * reach;
     let top = g.curve_h(SigmaCurve::Hyperbola, m_lo);
     let bottom = -(a + b);
     let pad = 0.08 * (top - bottom);
@@ -232,6 +235,8 @@ struct Chain {
     camera: Camera,
     upper: Vec<(f64, f64)>,
     lower: Vec<(f64, f64)>,
+    /// The middle (m, h) of its tallest piece, the piece's height and the number of tori.
+    widest: (f64, f64, f64, usize),
 }
 
 fn push_point(v: &mut Vec<(f64, f64)>, p: (f64, f64)) {
@@ -244,6 +249,8 @@ fn push_point(v: &mut Vec<(f64, f64)>, p: (f64, f64)) {
 #[derive(Clone, Debug)]
 struct Piece {
     camera: Option<Camera>,
+    /// Where it was classified, its height at that m and the number of tori.
+    sample: (f64, f64, f64, usize),
     /// (lower, upper) at the left and right edge of the strip.
     left: (f64, f64),
     right: (f64, f64),
@@ -304,9 +311,11 @@ fn camera_chains(g: &Geometry, f: &Frame) -> Vec<Chain> {
             if hi.0 - lo.0 <= h_tiny {
                 continue;
             }
-            let camera = classify(g.a, g.b, mm, 0.5 * (lo.0 + hi.0)).map(|(c, _)| c);
+            let hc = 0.5 * (lo.0 + hi.0);
+            let found = classify(g.a, g.b, mm, hc);
             pieces.push(Piece {
-                camera,
+                camera: found.map(|(c, _)| c),
+                sample: (mm, hc, hi.0 - lo.0, found.map_or(0, |(_, t)| t)),
                 left: (lo.1, hi.1),
                 right: (lo.2, hi.2),
             });
@@ -339,11 +348,15 @@ fn camera_chains(g: &Geometry, f: &Frame) -> Vec<Chain> {
                         camera,
                         upper: Vec::new(),
                         lower: Vec::new(),
+                        widest: q.sample,
                     });
                     chains.len() - 1
                 }
             };
             let ch = &mut chains[idx];
+            if q.sample.2 > ch.widest.2 {
+                ch.widest = q.sample;
+            }
             push_point(&mut ch.upper, (m0, q.left.1));
             push_point(&mut ch.upper, (m1, q.right.1));
             push_point(&mut ch.lower, (m0, q.left.0));
@@ -463,6 +476,9 @@ struct LabelPlacement {
     /// Centre of the label text (px); differs from `anchor` when the label does not fit in the
     /// camera and is set outside with a leader line.
     text: (f64, f64),
+    /// Distance (px, about) from the anchor to the camera's boundary; 0 for a camera too thin for
+    /// the raster.
+    room: f64,
 }
 
 /// Chamfer 3-4 distance of each cell of the mask to the nearest cell outside it (cells beyond
@@ -546,7 +562,15 @@ fn label_boxes(camera: Camera, x: f64, y: f64, pad: f64) -> [(f64, f64, f64, f64
 /// its boundary (the pole of inaccessibility, by a chamfer distance transform), preferring a
 /// point where the label's ink fits in the camera. When it fits nowhere, the text goes to the
 /// nearest empty (inadmissible) place where it fits, with a leader line to the anchor.
-fn label_positions(g: &Geometry, f: &Frame) -> Vec<LabelPlacement> {
+///
+/// Only the `cameras` listed get a label; `thin` gives an anchor (px) and the number of tori for
+/// cameras the raster misses (thinner than its step).
+fn label_positions(
+    g: &Geometry,
+    f: &Frame,
+    cameras: &[Camera],
+    thin: &[(Camera, (f64, f64), usize)],
+) -> Vec<LabelPlacement> {
     let step = 3.0;
     let nx = (f.w / step).floor() as usize;
     let ny = (f.h / step).floor() as usize;
@@ -595,25 +619,29 @@ fn label_positions(g: &Geometry, f: &Frame) -> Vec<LabelPlacement> {
     // Empty (inadmissible) cells not yet taken by a label set outside its camera.
     let mut empty: Vec<bool> = cells.iter().map(|c| c.is_none()).collect();
     let mut out = Vec::new();
-    for camera in Camera::ALL {
+    for &camera in cameras {
         let inside: Vec<bool> = cells
             .iter()
             .map(|c| c.map(|(k, _)| k) == Some(camera))
             .collect();
-        if !inside.iter().any(|&x| x) {
+        let (anchor, tori, fits, room) = if inside.iter().any(|&x| x) {
+            let d = distance_transform(&inside, nx, ny);
+            let mut order: Vec<usize> = (0..d.len()).filter(|&k| d[k] > 0).collect();
+            order.sort_by(|&p, &q| d[q].cmp(&d[p]).then(p.cmp(&q)));
+            let fitting = order.iter().copied().find(|&k| {
+                let (x, y) = centre(k);
+                in_mask(&inside, &label_boxes(camera, x, y, 2.0))
+            });
+            let best = fitting.unwrap_or(order[0]);
+            let tori = cells[best].map(|(_, t)| t).unwrap_or(0);
+            let room = d[order[0]] as f64 / 3.0 * step;
+            (centre(best), tori, fitting.is_some(), room)
+        } else if let Some(&(_, anchor, tori)) = thin.iter().find(|t| t.0 == camera) {
+            (anchor, tori, false, 0.0)
+        } else {
             continue;
-        }
-        let d = distance_transform(&inside, nx, ny);
-        let mut order: Vec<usize> = (0..d.len()).filter(|&k| d[k] > 0).collect();
-        order.sort_by(|&p, &q| d[q].cmp(&d[p]).then(p.cmp(&q)));
-        let fitting = order.iter().copied().find(|&k| {
-            let (x, y) = centre(k);
-            in_mask(&inside, &label_boxes(camera, x, y, 2.0))
-        });
-        let best = fitting.unwrap_or(order[0]);
-        let anchor = centre(best);
-        let tori = cells[best].map(|(_, t)| t).unwrap_or(0);
-        let text = if fitting.is_some() {
+        };
+        let text = if fits {
             anchor
         } else {
             // Nearest empty place at least 36 px away; it is then taken.
@@ -640,68 +668,25 @@ fn label_positions(g: &Geometry, f: &Frame) -> Vec<LabelPlacement> {
             tori,
             anchor,
             text,
+            room,
         });
     }
     out
 }
 
-/// An SVG picture of the (m, h) plane for the fields a > b > 0: the admissible region with its
-/// cameras coloured and labelled (with the number of Liouville tori), the curves of Σ (outer
-/// boundary thick, inner half-lines thin), the line m = 0 that splits the cameras I, II, IV into
-/// their ± parts (dashed; not part of Σ), axes, a title and a legend with Table 1's order of the
-/// roots of Φ in each camera.
-///
-/// Each camera label is a `<text class="camera-label" data-m=… data-h=…>` whose data attributes
-/// give the (m, h) of the label's anchor, a point inside that camera.
-pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, ClosedFormError> {
-    check_fields(a, b)?;
-    let ((dm_lo, dm_hi), (dh_lo, dh_hi)) = default_window(a, b)?;
-    let (m_lo, m_hi) = opts.m_range.unwrap_or((dm_lo, dm_hi));
-    let (h_lo, h_hi) = opts.h_range.unwrap_or((dh_lo, dh_hi));
-    for (name, lo, hi) in [("m_range", m_lo, m_hi), ("h_range", h_lo, h_hi)] {
-        if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-            return Err(ClosedFormError::Parameters(format!(
-                "{name} must be two finite numbers lo < hi (got {lo}, {hi})"
-            )));
-        }
-    }
-    if !(400..=8000).contains(&opts.width) || !(300..=8000).contains(&opts.height) {
-        return Err(ClosedFormError::Parameters(format!(
-            "picture size must be between 400 × 300 and 8000 × 8000 px (got {} × {})",
-            opts.width, opts.height
-        )));
-    }
-    let g = Geometry::new(a, b);
-    let (width, height) = (opts.width as f64, opts.height as f64);
-    let legend_w = 270.0;
-    let frame = Frame {
-        m_lo,
-        m_hi,
-        h_lo,
-        h_hi,
-        x0: 72.0,
-        y0: 56.0,
-        w: width - 72.0 - legend_w,
-        h: height - 56.0 - 62.0,
-    };
-    let f = &frame;
-    let mut s = String::new();
+/// Write the clip path, background, camera fills, the line m = 0 and Σ of one plot; return the
+/// camera polygons. `prefix` makes the ids unique ("" for the main plot).
+fn draw_plot(
+    s: &mut String,
+    g: &Geometry,
+    f: &Frame,
+    prefix: &str,
+    stroke_scale: f64,
+) -> Vec<Chain> {
+    let clip = format!("{prefix}plot-area");
     let _ = writeln!(
         s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#
-    );
-    let title = opts
-        .title
-        .clone()
-        .unwrap_or_else(|| format!("Admissible region and cameras, a = {a}, b = {b}"));
-    let _ = writeln!(s, "<title>{}</title>", xml_escape(&title));
-    let _ = writeln!(
-        s,
-        r##"<rect x="0" y="0" width="{width}" height="{height}" fill="#ffffff"/>"##
-    );
-    let _ = writeln!(
-        s,
-        r#"<defs><clipPath id="plot-area"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath></defs>"#,
+        r#"<defs><clipPath id="{clip}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath></defs>"#,
         fmt_px(f.x0),
         fmt_px(f.y0),
         fmt_px(f.w),
@@ -716,10 +701,9 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
         fmt_px(f.w),
         fmt_px(f.h)
     );
-
     // Cameras.
-    let chains = camera_chains(&g, f);
-    let _ = writeln!(s, r#"<g class="cameras" clip-path="url(#plot-area)">"#);
+    let chains = camera_chains(g, f);
+    let _ = writeln!(s, r#"<g class="cameras" clip-path="url(#{clip})">"#);
     for camera in Camera::ALL {
         let mut d = String::new();
         for ch in chains.iter().filter(|c| c.camera == camera) {
@@ -756,45 +740,8 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
     }
     let _ = writeln!(s, "</g>");
 
-    // Grid lines and ticks.
-    let m_step = nice_step(m_hi - m_lo, 8.0);
-    let h_step = nice_step(h_hi - h_lo, 8.0);
-    let m_ticks: Vec<f64> = {
-        let k0 = (m_lo / m_step).ceil() as i64;
-        let k1 = (m_hi / m_step).floor() as i64;
-        (k0..=k1).map(|k| k as f64 * m_step).collect()
-    };
-    let h_ticks: Vec<f64> = {
-        let k0 = (h_lo / h_step).ceil() as i64;
-        let k1 = (h_hi / h_step).floor() as i64;
-        (k0..=k1).map(|k| k as f64 * h_step).collect()
-    };
-    let _ = writeln!(
-        s,
-        r##"<g class="grid" stroke="#000000" stroke-opacity="0.08" stroke-width="1">"##
-    );
-    for &m in &m_ticks {
-        let x = fmt_px(f.px(m));
-        let _ = writeln!(
-            s,
-            r#"<line x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
-            fmt_px(f.y0),
-            fmt_px(f.y0 + f.h)
-        );
-    }
-    for &h in &h_ticks {
-        let y = fmt_px(f.py(h));
-        let _ = writeln!(
-            s,
-            r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}"/>"#,
-            fmt_px(f.x0),
-            fmt_px(f.x0 + f.w)
-        );
-    }
-    let _ = writeln!(s, "</g>");
-
     // m = 0 (not part of Σ: it splits I, II, IV into their ± parts).
-    if m_lo < 0.0 && m_hi > 0.0 {
+    if f.m_lo < 0.0 && f.m_hi > 0.0 {
         let x = fmt_px(f.px(0.0));
         let _ = writeln!(
             s,
@@ -805,9 +752,10 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
     }
 
     // Σ.
+    let (m_lo, m_hi, h_lo, h_hi) = (f.m_lo, f.m_hi, f.h_lo, f.h_hi);
     let _ = writeln!(
         s,
-        r#"<g class="sigma-curves" clip-path="url(#plot-area)" fill="none" stroke-linecap="round" stroke-linejoin="round">"#
+        r#"<g class="sigma-curves" clip-path="url(#{clip})" fill="none" stroke-linecap="round" stroke-linejoin="round">"#
     );
     for c in SigmaCurve::ALL {
         let (d0, d1) = g.domain(c);
@@ -818,7 +766,7 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
         }
         let mut d = String::new();
         if c == SigmaCurve::Hyperbola {
-            // Sample densely in m and in h; keep the part below a little above the window.
+            // Sample densely in m and in h; keep the part in (a little beyond) the window.
             let mut ms: Vec<f64> = (0..=2000)
                 .map(|i| lo + (hi - lo) * i as f64 / 2000.0)
                 .collect();
@@ -826,14 +774,13 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
                 let level = h_lo + (h_hi - h_lo) * i as f64 / 400.0;
                 ms.extend(g.crossings(c, level));
             }
-            ms.extend(g.crossings(c, h_hi));
             ms.retain(|m| *m >= lo && *m < hi && *m < 0.0);
             ms.sort_by(|p, q| p.total_cmp(q));
-            let cap = h_hi + 0.02 * (h_hi - h_lo);
+            let margin = 0.02 * (h_hi - h_lo);
             let mut pen_down = false;
             for m in ms {
                 let h = g.curve_h(c, m);
-                if h <= cap && h >= h_lo - 0.02 * (h_hi - h_lo) {
+                if h <= h_hi + margin && h >= h_lo - margin {
                     let _ = write!(
                         d,
                         "{}{},{}",
@@ -860,19 +807,56 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
             continue;
         }
         let (class, width_px, colour) = if Geometry::is_outer(c) {
-            ("sigma outer", 2.6, "#1a1a1a")
+            ("sigma outer", 2.6 * stroke_scale, "#1a1a1a")
         } else {
-            ("sigma inner", 1.3, "#333333")
+            ("sigma inner", 1.3 * stroke_scale, "#333333")
         };
         let _ = writeln!(
             s,
-            r#"<path id="sigma-{c:?}" class="{class}" d="{d}" stroke="{colour}" stroke-width="{width_px}"><title>Σ: {}</title></path>"#,
+            r#"<path id="{prefix}sigma-{c:?}" class="{class}" d="{d}" stroke="{colour}" stroke-width="{width_px}"><title>Σ: {}</title></path>"#,
             xml_escape(c.equation())
         );
     }
     let _ = writeln!(s, "</g>");
+    chains
+}
 
-    // Frame, ticks, tick labels, axis labels.
+/// Frame, ticks and tick labels of one plot.
+fn draw_axes(s: &mut String, f: &Frame, ticks: f64, font: f64, grid: bool) {
+    let m_step = nice_step(f.m_hi - f.m_lo, ticks);
+    let h_step = nice_step(f.h_hi - f.h_lo, ticks);
+    let range = |lo: f64, hi: f64, step: f64| -> Vec<f64> {
+        let k0 = (lo / step).ceil() as i64;
+        let k1 = (hi / step).floor() as i64;
+        (k0..=k1).map(|k| k as f64 * step).collect()
+    };
+    let m_ticks = range(f.m_lo, f.m_hi, m_step);
+    let h_ticks = range(f.h_lo, f.h_hi, h_step);
+    if grid {
+        let _ = writeln!(
+            s,
+            r##"<g class="grid" stroke="#000000" stroke-opacity="0.08" stroke-width="1">"##
+        );
+        for &m in &m_ticks {
+            let x = fmt_px(f.px(m));
+            let _ = writeln!(
+                s,
+                r#"<line x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
+                fmt_px(f.y0),
+                fmt_px(f.y0 + f.h)
+            );
+        }
+        for &h in &h_ticks {
+            let y = fmt_px(f.py(h));
+            let _ = writeln!(
+                s,
+                r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}"/>"#,
+                fmt_px(f.x0),
+                fmt_px(f.x0 + f.w)
+            );
+        }
+        let _ = writeln!(s, "</g>");
+    }
     let _ = writeln!(
         s,
         r##"<rect class="frame" x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#000000" stroke-width="1.2"/>"##,
@@ -883,8 +867,9 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
     );
     let _ = writeln!(
         s,
-        r##"<g class="axes" font-size="13" fill="#000000" stroke="#000000" stroke-width="1.2">"##
+        r##"<g class="axes" font-size="{font}" fill="#000000" stroke="#000000" stroke-width="1.2">"##
     );
+    let tick = 0.45 * font;
     let ybot = f.y0 + f.h;
     for &m in &m_ticks {
         let x = fmt_px(f.px(m));
@@ -892,8 +877,8 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
             s,
             r#"<line x1="{x}" y1="{}" x2="{x}" y2="{}"/><text x="{x}" y="{}" text-anchor="middle" stroke="none">{}</text>"#,
             fmt_px(ybot),
-            fmt_px(ybot + 6.0),
-            fmt_px(ybot + 21.0),
+            fmt_px(ybot + tick),
+            fmt_px(ybot + tick + 1.15 * font),
             fmt_tick(m, m_step)
         );
     }
@@ -902,42 +887,22 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
         let _ = writeln!(
             s,
             r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}"/><text x="{}" y="{}" text-anchor="end" stroke="none">{}</text>"#,
-            fmt_px(f.x0 - 6.0),
+            fmt_px(f.x0 - tick),
             fmt_px(f.x0),
-            fmt_px(f.x0 - 9.0),
-            fmt_px(f.py(h) + 4.5),
+            fmt_px(f.x0 - tick - 3.0),
+            fmt_px(f.py(h) + 0.35 * font),
             fmt_tick(h, h_step)
         );
     }
-    let _ = writeln!(
-        s,
-        r#"<text class="axis-label" x="{}" y="{}" text-anchor="middle" font-size="17" font-style="italic" stroke="none">m</text>"#,
-        fmt_px(f.x0 + 0.5 * f.w),
-        fmt_px(ybot + 45.0)
-    );
-    let _ = writeln!(
-        s,
-        r#"<text class="axis-label" x="{}" y="{}" text-anchor="middle" font-size="17" font-style="italic" stroke="none">h</text>"#,
-        fmt_px(f.x0 - 48.0),
-        fmt_px(f.y0 + 0.5 * f.h + 5.0)
-    );
     let _ = writeln!(s, "</g>");
+}
 
-    // Title.
-    let _ = writeln!(
-        s,
-        r##"<text class="title" x="{}" y="34" text-anchor="middle" font-size="20" font-weight="bold" fill="#000000">{}</text>"##,
-        fmt_px(0.5 * width),
-        xml_escape(&title)
-    );
-
-    // Camera labels.
-    let labels = label_positions(&g, f);
+fn draw_labels(s: &mut String, f: &Frame, labels: &[LabelPlacement]) {
     let _ = writeln!(
         s,
         r##"<g class="camera-labels" text-anchor="middle" fill="#111111">"##
     );
-    for p in &labels {
+    for p in labels {
         let (x, y) = p.text;
         if p.text != p.anchor {
             // Leader line from the anchor to the edge of the label box.
@@ -976,6 +941,113 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
         );
     }
     let _ = writeln!(s, "</g>");
+}
+
+/// Anchors (px) for cameras that the label raster misses but the strip sweep found.
+fn thin_anchors(f: &Frame, chains: &[Chain]) -> Vec<(Camera, (f64, f64), usize)> {
+    let mut out: Vec<(Camera, (f64, f64), usize)> = Vec::new();
+    for camera in Camera::ALL {
+        let best = chains
+            .iter()
+            .filter(|c| c.camera == camera)
+            .max_by(|p, q| p.widest.2.total_cmp(&q.widest.2));
+        if let Some(ch) = best {
+            let (m, h, _, tori) = ch.widest;
+            out.push((camera, (f.px(m), f.py(h)), tori));
+        }
+    }
+    out
+}
+
+/// An SVG picture of the (m, h) plane for the fields a > b > 0: the admissible region with its
+/// cameras coloured and labelled (with the number of Liouville tori), the curves of Σ (outer
+/// boundary thick, inner half-lines thin), the line m = 0 that splits the cameras I, II, IV into
+/// their ± parts (dashed; not part of Σ), axes, a title and a legend with Table 1's order of the
+/// roots of Φ in each camera. Cameras too small to label in the main plot are labelled in a
+/// zoomed inset below the legend (its window is marked in the main plot).
+///
+/// Each camera label is a `<text class="camera-label" data-m=… data-h=…>` whose data attributes
+/// give the (m, h) of the label's anchor, a point inside that camera; every camera in the window
+/// is labelled exactly once.
+pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, ClosedFormError> {
+    check_fields(a, b)?;
+    let ((dm_lo, dm_hi), (dh_lo, dh_hi)) = default_window(a, b)?;
+    let (m_lo, m_hi) = opts.m_range.unwrap_or((dm_lo, dm_hi));
+    let (h_lo, h_hi) = opts.h_range.unwrap_or((dh_lo, dh_hi));
+    for (name, lo, hi) in [("m_range", m_lo, m_hi), ("h_range", h_lo, h_hi)] {
+        if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+            return Err(ClosedFormError::Parameters(format!(
+                "{name} must be two finite numbers lo < hi (got {lo}, {hi})"
+            )));
+        }
+    }
+    if !(600..=8000).contains(&opts.width) || !(400..=8000).contains(&opts.height) {
+        return Err(ClosedFormError::Parameters(format!(
+            "picture size must be between 600 × 400 and 8000 × 8000 px (got {} × {})",
+            opts.width, opts.height
+        )));
+    }
+    let g = Geometry::new(a, b);
+    let (width, height) = (opts.width as f64, opts.height as f64);
+    let legend_w = 270.0;
+    let frame = Frame {
+        m_lo,
+        m_hi,
+        h_lo,
+        h_hi,
+        x0: 72.0,
+        y0: 56.0,
+        w: width - 72.0 - legend_w,
+        h: height - 56.0 - 62.0,
+    };
+    let f = &frame;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#
+    );
+    let title = opts
+        .title
+        .clone()
+        .unwrap_or_else(|| format!("Admissible region and cameras, a = {a}, b = {b}"));
+    let _ = writeln!(s, "<title>{}</title>", xml_escape(&title));
+    let _ = writeln!(
+        s,
+        r##"<rect x="0" y="0" width="{width}" height="{height}" fill="#ffffff"/>"##
+    );
+    let chains = draw_plot(&mut s, &g, f, "", 1.0);
+    draw_axes(&mut s, f, 8.0, 13.0, true);
+    let ybot = f.y0 + f.h;
+    let _ = writeln!(
+        s,
+        r#"<text class="axis-label" x="{}" y="{}" text-anchor="middle" font-size="17" font-style="italic">m</text>"#,
+        fmt_px(f.x0 + 0.5 * f.w),
+        fmt_px(ybot + 45.0)
+    );
+    let _ = writeln!(
+        s,
+        r#"<text class="axis-label" x="{}" y="{}" text-anchor="middle" font-size="17" font-style="italic">h</text>"#,
+        fmt_px(f.x0 - 52.0),
+        fmt_px(f.y0 + 0.5 * f.h + 5.0)
+    );
+    let _ = writeln!(
+        s,
+        r##"<text class="title" x="{}" y="34" text-anchor="middle" font-size="20" font-weight="bold" fill="#000000">{}</text>"##,
+        fmt_px(0.5 * width),
+        xml_escape(&title)
+    );
+
+    // Labels: in the main plot for cameras with room, in the inset for the others.
+    let present: Vec<Camera> = Camera::ALL
+        .into_iter()
+        .filter(|c| chains.iter().any(|ch| ch.camera == *c))
+        .collect();
+    let main_labels = label_positions(&g, f, &present, &thin_anchors(f, &chains));
+    let tiny: Vec<Camera> = main_labels
+        .iter()
+        .filter(|p| p.room < 4.0)
+        .map(|p| p.camera)
+        .collect();
 
     // Legend.
     let lx = f.x0 + f.w + 24.0;
@@ -1045,6 +1117,91 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
         ly += 16.0;
     }
     let _ = writeln!(s, "</g>");
+
+    // Inset for the cameras too small for a label in the main plot.
+    let inset_top = ly + 26.0;
+    let inset_h = ybot - inset_top;
+    let mut labels: Vec<LabelPlacement> = main_labels.clone();
+    if !tiny.is_empty() && inset_h >= 150.0 {
+        // Window: the bounding box of the tiny cameras' polygons, enlarged for context, when it
+        // is compact in the main plot; otherwise (a long thin sliver) a window around the
+        // sliver's thickest piece, with the main plot's aspect, five times as tall as the sliver.
+        let (mut b_m0, mut b_m1, mut b_h0, mut b_h1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for ch in chains.iter().filter(|c| tiny.contains(&c.camera)) {
+            for &(m, h) in ch.upper.iter().chain(ch.lower.iter()) {
+                b_m0 = b_m0.min(m);
+                b_m1 = b_m1.max(m);
+                b_h0 = b_h0.min(h);
+                b_h1 = b_h1.max(h);
+            }
+        }
+        let compact = f.px(b_m1) - f.px(b_m0) <= 60.0 && f.py(b_h0) - f.py(b_h1) <= 60.0;
+        let (cm, ch_, half_m, half_h) = if compact {
+            (
+                0.5 * (b_m0 + b_m1),
+                0.5 * (b_h0 + b_h1),
+                (b_m1 - b_m0).max(1e-9 * (m_hi - m_lo)),
+                (b_h1 - b_h0).max(1e-9 * (h_hi - h_lo)),
+            )
+        } else {
+            let (m, h, height, _) = chains
+                .iter()
+                .filter(|c| tiny.contains(&c.camera))
+                .map(|c| c.widest)
+                .max_by(|p, q| p.2.total_cmp(&q.2))
+                .unwrap_or((0.5 * (m_lo + m_hi), 0.5 * (h_lo + h_hi), h_hi - h_lo, 0));
+            let half_h = 2.5 * height.max(1e-9 * (h_hi - h_lo));
+            let half_m = half_h * (m_hi - m_lo) / (h_hi - h_lo) * (f.h / f.w);
+            let m = m.clamp(m_lo + half_m, (m_hi - half_m).max(m_lo + half_m));
+            (m, h, half_m, half_h)
+        };
+        let inset = Frame {
+            m_lo: cm - half_m,
+            m_hi: cm + half_m,
+            h_lo: ch_ - half_h,
+            h_hi: ch_ + half_h,
+            x0: lx + 40.0,
+            y0: inset_top,
+            w: width - lx - 40.0 - 14.0,
+            h: inset_h,
+        };
+        // Mark the inset's window in the main plot (at least 8 px wide).
+        let (x0, x1) = (f.px(inset.m_lo), f.px(inset.m_hi));
+        let (y0, y1) = (f.py(inset.h_hi), f.py(inset.h_lo));
+        let (xc, yc) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+        let (hw, hh) = ((0.5 * (x1 - x0)).max(5.0), (0.5 * (y1 - y0)).max(5.0));
+        let _ = writeln!(
+            s,
+            r##"<rect class="inset-window" clip-path="url(#plot-area)" x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#c0392b" stroke-width="1.3"/>"##,
+            fmt_px(xc - hw),
+            fmt_px(yc - hh),
+            fmt_px(2.0 * hw),
+            fmt_px(2.0 * hh)
+        );
+        let _ = writeln!(s, r#"<g class="inset">"#);
+        let _ = writeln!(
+            s,
+            r##"<text x="{}" y="{}" font-size="12.5" font-weight="bold" fill="#c0392b">Zoom (red box)</text>"##,
+            fmt_px(lx),
+            fmt_px(inset_top - 10.0)
+        );
+        let inset_chains = draw_plot(&mut s, &g, &inset, "inset-", 0.7);
+        draw_axes(&mut s, &inset, 3.0, 10.0, false);
+        let _ = writeln!(
+            s,
+            r##"<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#c0392b" stroke-width="1.6"/>"##,
+            fmt_px(inset.x0),
+            fmt_px(inset.y0),
+            fmt_px(inset.w),
+            fmt_px(inset.h)
+        );
+        let inset_labels = label_positions(&g, &inset, &tiny, &thin_anchors(&inset, &inset_chains));
+        draw_labels(&mut s, &inset, &inset_labels);
+        let _ = writeln!(s, "</g>");
+        let moved: Vec<Camera> = inset_labels.iter().map(|p| p.camera).collect();
+        labels.retain(|p| !moved.contains(&p.camera));
+    }
+    draw_labels(&mut s, f, &labels);
     s.push_str("</svg>\n");
     Ok(s)
 }

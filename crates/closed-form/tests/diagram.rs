@@ -56,9 +56,6 @@ fn camera_labels(svg: &str) -> Vec<(String, String)> {
 #[test]
 fn svg_is_well_formed() {
     let s = svg();
-    if let Ok(path) = std::env::var("RSTS_DIAGRAM_OUT") {
-        std::fs::write(path, &s).unwrap();
-    }
     assert!(s.starts_with("<svg "), "starts with <svg");
     assert!(s.trim_end().ends_with("</svg>"), "ends with </svg>");
     assert_eq!(s.matches("<svg").count(), 1);
@@ -192,17 +189,29 @@ fn default_window_contains_the_camera_points() {
 
 #[test]
 fn another_field_ratio_and_custom_window() {
-    let s = diagram_svg(2.0, 0.3, &DiagramOptions::default()).unwrap();
-    assert_eq!(
-        camera_labels(&s).len(),
-        9,
-        "all nine cameras for a = 2, b = 0.3"
-    );
-    for (tag, text) in camera_labels(&s) {
-        let m: f64 = attr(&tag, "data-m").unwrap().parse().unwrap();
-        let h: f64 = attr(&tag, "data-h").unwrap().parse().unwrap();
-        assert_eq!(describe_point(2.0, 0.3, m, h).unwrap().camera.label(), text);
+    // b close to a: camera V is a sliver a few px tall; b small: VI is one. Both are labelled in
+    // a zoomed inset, still exactly once, at a point inside them.
+    for (a, b) in [(2.0, 0.3), (1.0, 0.8), (1.0, 0.1)] {
+        let s = diagram_svg(a, b, &DiagramOptions::default()).unwrap();
+        let labels = camera_labels(&s);
+        let mut texts: Vec<&str> = labels.iter().map(|(_, t)| t.as_str()).collect();
+        texts.sort();
+        assert_eq!(
+            texts,
+            ["I+", "I-", "II+", "II-", "III", "IV+", "IV-", "V", "VI"],
+            "a = {a}, b = {b}"
+        );
+        for (tag, text) in &labels {
+            let m: f64 = attr(tag, "data-m").unwrap().parse().unwrap();
+            let h: f64 = attr(tag, "data-h").unwrap().parse().unwrap();
+            let d = describe_point(a, b, m, h).unwrap();
+            assert_eq!(d.camera.label(), text, "a = {a}, b = {b}: ({m}, {h})");
+        }
+        assert!(s.contains("class=\"inset\""), "inset for a = {a}, b = {b}");
+        assert_eq!(s.matches("<g ").count(), s.matches("</g>").count());
     }
+    // a = 1, b = 1/2: every camera has room in the main plot.
+    assert!(!svg().contains("class=\"inset\""));
     // A window with m > 0 only: cameras I+, II+, IV+ and nothing else.
     let opts = DiagramOptions {
         m_range: Some((0.05, 3.0)),
@@ -429,4 +438,30 @@ fn inadmissible_points_and_points_on_sigma_are_errors_naming_the_curve() {
         assert!(e.to_string().contains(curve.equation()), "{curve:?}: {e}");
     }
     assert!(describe_point(A, B, f64::NAN, 0.0).is_err());
+}
+
+/// Writes example pictures and descriptions to look at:
+/// `cargo test -p rsts-closed-form --release --test diagram -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn write_example_pictures() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("diagram");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (a, b) in [(1.0, 0.5), (2.0, 0.3), (1.0, 0.8), (1.0, 0.1)] {
+        let path = dir.join(format!("diagram-a{a}-b{b}.svg"));
+        std::fs::write(
+            &path,
+            diagram_svg(a, b, &DiagramOptions::default()).unwrap(),
+        )
+        .unwrap();
+        println!("{}", path.display());
+    }
+    for (_, m, h) in CAMERA_POINTS {
+        println!("{}", describe_point(A, B, m, h).unwrap());
+    }
+    println!("{}", describe_point(A, B, 0.0, -0.5).unwrap());
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&describe_point(A, B, -0.7092, 1.5643).unwrap()).unwrap()
+    );
 }
