@@ -1,0 +1,174 @@
+//! What is measured at each sample and over a run.
+
+use rsts_closed_form::ExplicitState;
+use rsts_dynamics::integrals::integrals;
+use rsts_dynamics::integrators::Stats;
+use rsts_dynamics::vec3::{mul_bt, rotation_angle, Mat3, Vec3};
+use rsts_dynamics::{Fields, Real, State};
+use rug::Float;
+use serde::Serialize;
+
+/// A state as plotted and logged (f64): orientation rows α, β, γ, ω, Ω = Qω and H, K, G.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StateSnapshot {
+    pub q: [[f64; 3]; 3],
+    pub omega: [f64; 3],
+    pub omega_fixed: [f64; 3],
+    pub h: f64,
+    pub k: f64,
+    pub g: f64,
+}
+
+/// Errors of the integrated motion at one sample.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct SampleErrors {
+    /// max |x_int − x_exact| over the nine components (ω, α, β).
+    pub state_error: f64,
+    /// Rotation angle of Q_int Q_exactᵀ (radians).
+    pub orientation_error: f64,
+    /// |H(t) − H(0)|, |K(t) − K(0)|, |G(t) − G(0)| of the integrated motion.
+    pub drift_h: f64,
+    pub drift_k: f64,
+    pub drift_g: f64,
+    /// max(||α|² − 1|, ||β|² − 1|, |α·β|).
+    pub constraint_drift: f64,
+    /// Distance from N: max(|K − r⁴m²|, |2G − p²H − r⁴m|).
+    pub off_n: f64,
+}
+
+/// One sample of a comparison.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SampleRecord {
+    pub index: usize,
+    pub t: f64,
+    pub exact: StateSnapshot,
+    pub integrated: StateSnapshot,
+    pub errors: SampleErrors,
+}
+
+/// Drift summary of a run: the largest value over the samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Drift {
+    #[serde(rename = "H")]
+    pub h: f64,
+    #[serde(rename = "K")]
+    pub k: f64,
+    #[serde(rename = "G")]
+    pub g: f64,
+    pub constraints: f64,
+    #[serde(rename = "off_N")]
+    pub off_n: f64,
+}
+
+/// The result of a comparison (the JSON of `rsts compare`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Report {
+    pub method: String,
+    pub rtol: f64,
+    pub atol: f64,
+    /// Digits of the integrator's scalar (f64: 15).
+    pub digits: u32,
+    /// Digits of the closed-form reference.
+    pub reference_digits: u32,
+    pub camera: String,
+    pub samples_compared: usize,
+    /// False when the run was stopped (Ctrl-C) before the last sample.
+    pub complete: bool,
+    pub max_state_error: f64,
+    pub final_state_error: f64,
+    pub max_orientation_error: f64,
+    pub drift: Drift,
+    pub steps: u64,
+    pub rejected_steps: u64,
+    pub rhs_evals: u64,
+    pub integration_seconds: f64,
+}
+
+impl Report {
+    pub(crate) fn absorb(&mut self, e: &SampleErrors) {
+        self.max_state_error = self.max_state_error.max(e.state_error);
+        self.final_state_error = e.state_error;
+        self.max_orientation_error = self.max_orientation_error.max(e.orientation_error);
+        let d = &mut self.drift;
+        d.h = d.h.max(e.drift_h);
+        d.k = d.k.max(e.drift_k);
+        d.g = d.g.max(e.drift_g);
+        d.constraints = d.constraints.max(e.constraint_drift);
+        d.off_n = d.off_n.max(e.off_n);
+        self.samples_compared += 1;
+    }
+
+    pub(crate) fn add_stats(&mut self, s: &Stats) {
+        self.steps += s.accepted_steps;
+        self.rejected_steps += s.rejected_steps;
+        self.rhs_evals += s.rhs_evals;
+        self.integration_seconds += s.integration_seconds;
+    }
+}
+
+fn f3(v: &Vec3<Float>) -> [f64; 3] {
+    v.clone().map(|x| x.to_f64())
+}
+
+fn snapshot(fields: &Fields<Float>, s: &State<Float>) -> StateSnapshot {
+    let q = s.orientation();
+    let ints = integrals(fields, s);
+    StateSnapshot {
+        q: q.clone().map(|r| f3(&r)),
+        omega: f3(&s.omega),
+        omega_fixed: f3(&s.omega_fixed()),
+        h: ints.h.to_f64(),
+        k: ints.k.to_f64(),
+        g: ints.g.to_f64(),
+    }
+}
+
+/// The closed-form state as a phase state.
+pub(crate) fn exact_state(e: &ExplicitState<Float>) -> State<Float> {
+    State {
+        omega: e.omega.clone(),
+        alpha: e.alpha.clone(),
+        beta: e.beta.clone(),
+    }
+}
+
+/// Constants of N the distance is measured against: r⁴m² (= K) and p²h + r⁴m (= 2G).
+pub(crate) struct ManifoldN {
+    pub k: Float,
+    pub p2: Float,
+    pub r4m: Float,
+}
+
+/// Errors at one sample, at the reference precision.
+pub(crate) fn sample_errors(
+    fields: &Fields<Float>,
+    n: &ManifoldN,
+    initial_integrals: &[Float; 3],
+    exact: &State<Float>,
+    integrated: &State<Float>,
+) -> (SampleErrors, StateSnapshot, StateSnapshot) {
+    let x = integrated.to_array();
+    let y = exact.to_array();
+    let state_error = (0..9)
+        .map(|k| (x[k].clone() - &y[k]).abs())
+        .fold(Float::with_val(x[0].prec(), 0), |a, b| a.max_of(b));
+    let r: Mat3<Float> = mul_bt(&integrated.orientation(), &exact.orientation());
+    let ints = integrals(fields, integrated);
+    let two = Float::with_val(x[0].prec(), 2);
+    let off_k = (ints.k.clone() - &n.k).abs();
+    let off_g = (two * &ints.g - n.p2.clone() * &ints.h - &n.r4m).abs();
+    let errors = SampleErrors {
+        state_error: state_error.to_f64(),
+        orientation_error: rotation_angle(&r).to_f64(),
+        drift_h: (ints.h.clone() - &initial_integrals[0]).abs().to_f64(),
+        drift_k: (ints.k.clone() - &initial_integrals[1]).abs().to_f64(),
+        drift_g: (ints.g.clone() - &initial_integrals[2]).abs().to_f64(),
+        constraint_drift: integrated.constraint_error().to_f64(),
+        off_n: off_k.max_of(off_g).to_f64(),
+    };
+    (
+        errors,
+        snapshot(fields, exact),
+        snapshot(fields, integrated),
+    )
+}
