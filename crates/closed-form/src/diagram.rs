@@ -22,7 +22,7 @@ use crate::constants::{IntegralConstants, SigmaCurve};
 use crate::error::ClosedFormError;
 use crate::motion::{ExplicitMotion, TorusChoice};
 use crate::roots::RootLabel;
-use crate::separated::{Radicand, SeparatedVariable};
+use crate::separated::{segments, Radicand, SeparatedVariable};
 
 // ---------------------------------------------------------------------------------------------
 // Parameters
@@ -40,6 +40,19 @@ fn check_fields(a: f64, b: f64) -> Result<(), ClosedFormError> {
         )));
     }
     Ok(())
+}
+
+/// The camera at (m, h), if the point is admissible and off Σ: the same choice as
+/// [`ExplicitMotion::new`] (the first oscillation segment of each variable), without building
+/// the elliptic parametrisation — cheap enough for a raster.
+fn camera_at(a: f64, b: f64, m: f64, h: f64) -> Option<Camera> {
+    let c = IntegralConstants::new(a, b, m, h).ok()?;
+    let (f1, g1) = c.radicands_x();
+    let (f2, g2) = c.radicands_s2();
+    let s1 = segments(&f1, &g1);
+    let s2 = segments(&f2, &g2);
+    let (x, y) = (s1.first()?, s2.first()?);
+    Camera::from_segments([x.0.label, x.1.label], [y.0.label, y.1.label], c.m < 0.0)
 }
 
 /// The camera and number of tori at (m, h), if the point is admissible and off Σ.
@@ -235,8 +248,8 @@ struct Chain {
     camera: Camera,
     upper: Vec<(f64, f64)>,
     lower: Vec<(f64, f64)>,
-    /// The middle (m, h) of its tallest piece, the piece's height and the number of tori.
-    widest: (f64, f64, f64, usize),
+    /// The middle (m, h) of its tallest piece and the piece's height.
+    widest: (f64, f64, f64),
 }
 
 fn push_point(v: &mut Vec<(f64, f64)>, p: (f64, f64)) {
@@ -249,8 +262,8 @@ fn push_point(v: &mut Vec<(f64, f64)>, p: (f64, f64)) {
 #[derive(Clone, Debug)]
 struct Piece {
     camera: Option<Camera>,
-    /// Where it was classified, its height at that m and the number of tori.
-    sample: (f64, f64, f64, usize),
+    /// Where it was classified and its height at that m.
+    sample: (f64, f64, f64),
     /// (lower, upper) at the left and right edge of the strip.
     left: (f64, f64),
     right: (f64, f64),
@@ -312,10 +325,9 @@ fn camera_chains(g: &Geometry, f: &Frame) -> Vec<Chain> {
                 continue;
             }
             let hc = 0.5 * (lo.0 + hi.0);
-            let found = classify(g.a, g.b, mm, hc);
             pieces.push(Piece {
-                camera: found.map(|(c, _)| c),
-                sample: (mm, hc, hi.0 - lo.0, found.map_or(0, |(_, t)| t)),
+                camera: camera_at(g.a, g.b, mm, hc),
+                sample: (mm, hc, hi.0 - lo.0),
                 left: (lo.1, hi.1),
                 right: (lo.2, hi.2),
             });
@@ -571,15 +583,16 @@ fn label_positions(
     cameras: &[Camera],
     thin: &[(Camera, (f64, f64), usize)],
 ) -> Vec<LabelPlacement> {
-    let step = 3.0;
+    // About 3 px cells, at most ~60 000 of them.
+    let step = (f.w * f.h / 60_000.0).sqrt().max(3.0);
     let nx = (f.w / step).floor() as usize;
     let ny = (f.h / step).floor() as usize;
-    let mut cells: Vec<Option<(Camera, usize)>> = Vec::with_capacity(nx * ny);
+    let mut cells: Vec<Option<Camera>> = Vec::with_capacity(nx * ny);
     for j in 0..ny {
         for i in 0..nx {
             let x = f.x0 + (i as f64 + 0.5) * step;
             let y = f.y0 + (j as f64 + 0.5) * step;
-            cells.push(classify(g.a, g.b, f.m_of(x), f.h_of(y)));
+            cells.push(camera_at(g.a, g.b, f.m_of(x), f.h_of(y)));
         }
     }
     let at = |i: usize, j: usize| j * nx + i;
@@ -620,10 +633,7 @@ fn label_positions(
     let mut empty: Vec<bool> = cells.iter().map(|c| c.is_none()).collect();
     let mut out = Vec::new();
     for &camera in cameras {
-        let inside: Vec<bool> = cells
-            .iter()
-            .map(|c| c.map(|(k, _)| k) == Some(camera))
-            .collect();
+        let inside: Vec<bool> = cells.iter().map(|c| *c == Some(camera)).collect();
         let (anchor, tori, fits, room) = if inside.iter().any(|&x| x) {
             let d = distance_transform(&inside, nx, ny);
             let mut order: Vec<usize> = (0..d.len()).filter(|&k| d[k] > 0).collect();
@@ -633,7 +643,8 @@ fn label_positions(
                 in_mask(&inside, &label_boxes(camera, x, y, 2.0))
             });
             let best = fitting.unwrap_or(order[0]);
-            let tori = cells[best].map(|(_, t)| t).unwrap_or(0);
+            let (x, y) = centre(best);
+            let tori = classify(g.a, g.b, f.m_of(x), f.h_of(y)).map_or(0, |(_, t)| t);
             let room = d[order[0]] as f64 / 3.0 * step;
             (centre(best), tori, fitting.is_some(), room)
         } else if let Some(&(_, anchor, tori)) = thin.iter().find(|t| t.0 == camera) {
@@ -826,8 +837,8 @@ fn draw_axes(s: &mut String, f: &Frame, ticks: f64, font: f64, grid: bool) {
     let m_step = nice_step(f.m_hi - f.m_lo, ticks);
     let h_step = nice_step(f.h_hi - f.h_lo, ticks);
     let range = |lo: f64, hi: f64, step: f64| -> Vec<f64> {
-        let k0 = (lo / step).ceil() as i64;
-        let k1 = (hi / step).floor() as i64;
+        let k0 = (lo / step - 1e-9).ceil() as i64;
+        let k1 = (hi / step + 1e-9).floor() as i64;
         (k0..=k1).map(|k| k as f64 * step).collect()
     };
     let m_ticks = range(f.m_lo, f.m_hi, m_step);
@@ -944,7 +955,7 @@ fn draw_labels(s: &mut String, f: &Frame, labels: &[LabelPlacement]) {
 }
 
 /// Anchors (px) for cameras that the label raster misses but the strip sweep found.
-fn thin_anchors(f: &Frame, chains: &[Chain]) -> Vec<(Camera, (f64, f64), usize)> {
+fn thin_anchors(g: &Geometry, f: &Frame, chains: &[Chain]) -> Vec<(Camera, (f64, f64), usize)> {
     let mut out: Vec<(Camera, (f64, f64), usize)> = Vec::new();
     for camera in Camera::ALL {
         let best = chains
@@ -952,7 +963,8 @@ fn thin_anchors(f: &Frame, chains: &[Chain]) -> Vec<(Camera, (f64, f64), usize)>
             .filter(|c| c.camera == camera)
             .max_by(|p, q| p.widest.2.total_cmp(&q.widest.2));
         if let Some(ch) = best {
-            let (m, h, _, tori) = ch.widest;
+            let (m, h, _) = ch.widest;
+            let tori = classify(g.a, g.b, m, h).map_or(0, |(_, t)| t);
             out.push((camera, (f.px(m), f.py(h)), tori));
         }
     }
@@ -1042,7 +1054,7 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
         .into_iter()
         .filter(|c| chains.iter().any(|ch| ch.camera == *c))
         .collect();
-    let main_labels = label_positions(&g, f, &present, &thin_anchors(f, &chains));
+    let main_labels = label_positions(&g, f, &present, &thin_anchors(&g, f, &chains));
     let tiny: Vec<Camera> = main_labels
         .iter()
         .filter(|p| p.room < 4.0)
@@ -1144,12 +1156,12 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
                 (b_h1 - b_h0).max(1e-9 * (h_hi - h_lo)),
             )
         } else {
-            let (m, h, height, _) = chains
+            let (m, h, height) = chains
                 .iter()
                 .filter(|c| tiny.contains(&c.camera))
                 .map(|c| c.widest)
                 .max_by(|p, q| p.2.total_cmp(&q.2))
-                .unwrap_or((0.5 * (m_lo + m_hi), 0.5 * (h_lo + h_hi), h_hi - h_lo, 0));
+                .unwrap_or((0.5 * (m_lo + m_hi), 0.5 * (h_lo + h_hi), h_hi - h_lo));
             let half_h = 2.5 * height.max(1e-9 * (h_hi - h_lo));
             let half_m = half_h * (m_hi - m_lo) / (h_hi - h_lo) * (f.h / f.w);
             let m = m.clamp(m_lo + half_m, (m_hi - half_m).max(m_lo + half_m));
@@ -1195,7 +1207,8 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
             fmt_px(inset.w),
             fmt_px(inset.h)
         );
-        let inset_labels = label_positions(&g, &inset, &tiny, &thin_anchors(&inset, &inset_chains));
+        let inset_labels =
+            label_positions(&g, &inset, &tiny, &thin_anchors(&g, &inset, &inset_chains));
         draw_labels(&mut s, &inset, &inset_labels);
         let _ = writeln!(s, "</g>");
         let moved: Vec<Camera> = inset_labels.iter().map(|p| p.camera).collect();

@@ -456,6 +456,14 @@ fn write_example_pictures() {
         .unwrap();
         println!("{}", path.display());
     }
+    let zoom = DiagramOptions {
+        m_range: Some((-1.2, -0.2)),
+        h_range: Some((1.2, 2.0)),
+        ..DiagramOptions::default()
+    };
+    let path = dir.join("diagram-a1-b0.5-zoom.svg");
+    std::fs::write(&path, diagram_svg(A, B, &zoom).unwrap()).unwrap();
+    println!("{}", path.display());
     for (_, m, h) in CAMERA_POINTS {
         println!("{}", describe_point(A, B, m, h).unwrap());
     }
@@ -464,4 +472,72 @@ fn write_example_pictures() {
         "{}",
         serde_json::to_string_pretty(&describe_point(A, B, -0.7092, 1.5643).unwrap()).unwrap()
     );
+}
+
+#[test]
+fn odd_windows_and_sizes_give_well_formed_pictures() {
+    for (m_range, h_range, width, height) in [
+        // Entirely outside the admissible region.
+        ((-3.0, -2.0), (-5.0, -4.0), 1000, 720),
+        // A tiny window inside camera I+.
+        ((0.3, 0.3 + 1e-9), (-0.375, -0.375 + 1e-9), 1000, 720),
+        // Huge.
+        ((-1e4, 1e4), (-1e4, 1e4), 1000, 720),
+        // Around the tangency of the hyperbola with h = r²m + 2a at m = −1/(2a).
+        ((-0.6, -0.4), (1.4, 1.8), 600, 400),
+        ((-3.0, 2.3), (-2.0, 4.4), 3000, 2000),
+    ] {
+        let opts = DiagramOptions {
+            m_range: Some(m_range),
+            h_range: Some(h_range),
+            width,
+            height,
+            title: Some("a <test> & title".to_string()),
+        };
+        let s = diagram_svg(A, B, &opts).unwrap();
+        assert!(s.starts_with("<svg ") && s.trim_end().ends_with("</svg>"));
+        assert_eq!(s.matches("<g ").count(), s.matches("</g>").count());
+        assert_eq!(s.matches("<text").count(), s.matches("</text>").count());
+        assert!(s.contains("a &lt;test&gt; &amp; title"));
+        assert!(
+            !s.contains("NaN") && !s.contains("inf"),
+            "{m_range:?} {h_range:?}"
+        );
+        let labels = camera_labels(&s);
+        for (tag, text) in &labels {
+            let m: f64 = attr(tag, "data-m").unwrap().parse().unwrap();
+            let h: f64 = attr(tag, "data-h").unwrap().parse().unwrap();
+            assert_eq!(describe_point(A, B, m, h).unwrap().camera.label(), text);
+        }
+        let mut texts: Vec<&str> = labels.iter().map(|(_, t)| t.as_str()).collect();
+        texts.sort();
+        texts.dedup();
+        assert_eq!(texts.len(), labels.len(), "each camera once: {texts:?}");
+        if m_range.0 == 0.3 {
+            assert_eq!(texts, ["I+"]);
+        }
+        if m_range.0 == -3.0 && width == 1000 {
+            assert!(texts.is_empty());
+        }
+    }
+}
+
+#[test]
+#[ignore]
+fn timing() {
+    for (w, h) in [(1000, 720), (2000, 1440)] {
+        let t = std::time::Instant::now();
+        let opts = DiagramOptions {
+            width: w,
+            height: h,
+            ..DiagramOptions::default()
+        };
+        let s = diagram_svg(A, B, &opts).unwrap();
+        println!("{w}x{h}: {:?}, {} bytes", t.elapsed(), s.len());
+    }
+    let t = std::time::Instant::now();
+    for i in 0..10000 {
+        let _ = describe_point(A, B, 0.3, -0.375 + 1e-6 * i as f64);
+    }
+    println!("describe: {:?} per point", t.elapsed() / 10000);
 }
