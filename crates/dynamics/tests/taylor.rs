@@ -449,3 +449,36 @@ fn external_reference_agrees() {
         assert!(err < bound, "{method}: {err:e}");
     }
 }
+
+/// The buffered coefficient routine used by the integrator agrees with the plain
+/// `taylor_coefficient` (both from the one table), and J·v with the Jacobian matrix times v.
+#[test]
+fn buffered_coefficients_and_jvp_match_the_plain_forms() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let fields = Fields::new(1.3, 0.7).unwrap();
+    let field = VectorField::new(&fields);
+    let len = 12;
+    let series: Vec<Vec<f64>> = (0..9)
+        .map(|_| (0..len).map(|_| rng.gen_range(-1.0..1.0)).collect())
+        .collect();
+    let mut out = vec![0.0; 9];
+    let mut scratch = 0.0;
+    for n in 0..len {
+        let plain = field.taylor_coefficient(&series, n);
+        field.taylor_coefficient_into(&series, n, &mut out, &mut scratch);
+        for (a, b) in plain.iter().zip(&out) {
+            assert!(
+                (a - b).abs() <= 1e-14 * (n as f64 + 1.0),
+                "order {n}: {a} vs {b}"
+            );
+        }
+    }
+    let x: [f64; 9] = std::array::from_fn(|_| rng.gen_range(-1.0..1.0));
+    let v: [f64; 9] = std::array::from_fn(|_| rng.gen_range(-1.0..1.0));
+    let jac = field.jacobian(&x);
+    let jv = field.jacobian_vector_product(&x, &v);
+    for (row, w) in jac.iter().zip(&jv) {
+        let expected: f64 = row.iter().zip(&v).map(|(a, b)| a * b).sum();
+        assert!((expected - w).abs() < 1e-14, "{expected} vs {w}");
+    }
+}
