@@ -14,15 +14,21 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use commands::{explicit, integrate};
+use commands::{compare, explicit, inspect, integrate};
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
 const EXIT_ERROR: u8 = 2;
+/// Exit code of `rsts inspect` when only part of a damaged file could be read.
+const EXIT_RECOVERED: u8 = 3;
+/// Exit code of a run stopped by Ctrl-C (128 + SIGINT).
+const EXIT_INTERRUPTED: u8 = 130;
 
 const TOP_EXAMPLES: &str = "\
 Examples:
   rsts integrate
   rsts integrate --a 1 --b 0.5 --omega -0.3,0.2,0.5 --alpha 1,0,0 --beta 0,1,0 --t-end 100 --samples 101 --format csv
+  rsts compare --mcap out/compare.mcap
+  rsts inspect out/compare.mcap --channel /errors --format csv
   rsts explicit --m -0.7092 --h 1.5643 --torus 3 --t-end 20 --samples 5 --digits 60 --format json
 
 Run `rsts <COMMAND> --help` for the options and more examples of each command.";
@@ -44,6 +50,12 @@ enum Command {
     /// Evaluate the closed-form motion on the invariant manifold N (f64 or any number of digits).
     #[command(after_help = explicit::EXAMPLES)]
     Explicit(explicit::Args),
+    /// Compare an integrator with the closed form along a motion; optionally log it to MCAP.
+    #[command(after_help = compare::EXAMPLES)]
+    Compare(compare::Args),
+    /// Summarise an MCAP log of `rsts compare`, or extract one of its series.
+    #[command(after_help = inspect::EXAMPLES)]
+    Inspect(inspect::Args),
 }
 
 impl Command {
@@ -51,6 +63,8 @@ impl Command {
         match self {
             Command::Integrate(args) => integrate::run(args, out),
             Command::Explicit(args) => explicit::run(args, out),
+            Command::Compare(args) => compare::run(args, out),
+            Command::Inspect(args) => inspect::run(args, out),
         }
     }
 }
@@ -82,7 +96,13 @@ fn main() -> ExitCode {
         Err(e) => {
             // Best effort: if stderr itself is gone there is nobody to tell.
             let _ = writeln!(io::stderr(), "error: {e:#}");
-            ExitCode::from(EXIT_ERROR)
+            if e.downcast_ref::<inspect::Recovered>().is_some() {
+                ExitCode::from(EXIT_RECOVERED)
+            } else if e.downcast_ref::<compare::Interrupted>().is_some() {
+                ExitCode::from(EXIT_INTERRUPTED)
+            } else {
+                ExitCode::from(EXIT_ERROR)
+            }
         }
     }
 }

@@ -1,4 +1,6 @@
 //! One module per subcommand, each with `Args`, `EXAMPLES` and `run(args, out)`.
 
+pub mod compare;
 pub mod explicit;
+pub mod inspect;
 pub mod integrate;

@@ -1,0 +1,86 @@
+//! `rsts inspect`: summary of an MCAP log written by `rsts compare`, or one series as CSV/JSON.
+//! A truncated or damaged file is read as far as it goes: what could be recovered is printed and
+//! the command says what was wrong and exits with status 3.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use clap::{Args as ClapArgs, ValueEnum};
+
+use rsts_mcap::inspect;
+
+/// Shown at the end of `rsts inspect --help`.
+pub const EXAMPLES: &str = "\
+Examples:
+  # channels, schemas, message counts, time range, the case and the largest errors
+  rsts inspect out/compare.mcap
+
+  # the error series as CSV (columns t, state_error, orientation_error, drift_h, ...)
+  rsts inspect out/compare.mcap --channel /errors --format csv
+
+Exit status: 0 for a healthy file, 3 when the file is truncated or damaged and only part of it
+could be read (that part is printed), 2 for any other error.";
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SeriesFormat {
+    Csv,
+    Json,
+}
+
+/// Options of `rsts inspect`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct Args {
+    /// The MCAP file
+    pub file: PathBuf,
+    /// Extract this channel (topic), e.g. /errors or /integrated/state
+    #[arg(long, value_name = "NAME")]
+    pub channel: Option<String>,
+    /// Format of an extracted series
+    #[arg(long, value_enum, default_value_t = SeriesFormat::Csv)]
+    pub format: SeriesFormat,
+}
+
+/// The file was only partly readable: the recovered part has been printed.
+#[derive(Debug)]
+pub struct Recovered(pub String);
+
+impl std::fmt::Display for Recovered {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.0)
+    }
+}
+impl std::error::Error for Recovered {}
+
+pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
+    let (recovered, notes) = match &args.channel {
+        None => {
+            let s = inspect::summarize(&args.file)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
+            write!(out, "{s}")?;
+            (s.recovered, s.notes.clone())
+        }
+        Some(topic) => {
+            let series = inspect::extract(&args.file, topic)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
+            match args.format {
+                SeriesFormat::Csv => write!(out, "{}", series.to_csv())?,
+                SeriesFormat::Json => writeln!(out, "{}", series.to_json())?,
+            }
+            (series.recovered, series.notes.clone())
+        }
+    };
+    if recovered {
+        out.flush()?;
+        let why = if notes.is_empty() {
+            "the file is incomplete".to_string()
+        } else {
+            notes.join("; ")
+        };
+        return Err(Recovered(format!(
+            "{} is truncated or damaged ({why}); what could be recovered is shown above",
+            args.file.display()
+        ))
+        .into());
+    }
+    Ok(())
+}
