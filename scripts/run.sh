@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Build (release) and run rsts with the given arguments; with none, run the built-in default
-# case (`rsts integrate`). Example: scripts/run.sh integrate --t-end 100 --format csv
+# comparison: camera I+ (a=1, b=0.5, m=0.3, h=-0.375), Dop853 at 1e-12 against the closed form over
+# T=100, printing the report and writing out/compare-default.mcap.
+# Example: scripts/run.sh integrate --t-end 100 --format csv
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -8,7 +10,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"; fi
 
 if [ "$#" -eq 0 ]; then
-  set -- integrate
+  set -- compare --mcap out/compare-default.mcap
 fi
 # No cd: relative paths in the arguments stay relative to the caller's directory.
 exec cargo run --release --manifest-path "$root/Cargo.toml" -p rsts-cli --bin rsts -- "$@"
