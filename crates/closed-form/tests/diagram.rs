@@ -36,6 +36,54 @@ fn attr(tag: &str, name: &str) -> Option<String> {
     Some(tag[start..end].to_string())
 }
 
+/// Check that every element is closed in order (a small XML tag-stack check: no comments,
+/// processing instructions or CDATA are expected in our SVG). Returns the number of elements.
+fn check_nesting(svg: &str) -> usize {
+    let mut stack: Vec<String> = Vec::new();
+    let mut count = 0;
+    let mut rest = svg;
+    while let Some(i) = rest.find('<') {
+        let end = rest[i..].find('>').expect("unterminated tag") + i;
+        let tag = &rest[i + 1..end];
+        assert!(!tag.starts_with('!') && !tag.starts_with('?'), "<{tag}>");
+        if let Some(name) = tag.strip_prefix('/') {
+            assert_eq!(
+                stack.pop().as_deref(),
+                Some(name.trim()),
+                "closing </{name}>"
+            );
+        } else {
+            count += 1;
+            let name: String = tag
+                .chars()
+                .take_while(|c| !c.is_whitespace() && *c != '/')
+                .collect();
+            assert!(!name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric()));
+            if !tag.ends_with('/') {
+                stack.push(name);
+            }
+        }
+        // Text between tags has no stray '>' and only escaped '&'.
+        let next = rest[end + 1..]
+            .find('<')
+            .map_or(rest.len(), |k| k + end + 1);
+        let text = &rest[end + 1..next];
+        assert!(!text.contains('>'), "stray '>' in {text:?}");
+        for (k, _) in text.match_indices('&') {
+            let ent = &text[k..];
+            assert!(
+                ["&amp;", "&lt;", "&gt;", "&quot;"]
+                    .iter()
+                    .any(|e| ent.starts_with(e)),
+                "unescaped & in {text:?}"
+            );
+        }
+        rest = &rest[end + 1..];
+    }
+    assert!(stack.is_empty(), "unclosed {stack:?}");
+    count
+}
+
 /// All (opening tag, text) of `<text class="camera-label" …>TEXT</text>`.
 fn camera_labels(svg: &str) -> Vec<(String, String)> {
     let mut out = Vec::new();
@@ -102,6 +150,19 @@ fn svg_is_well_formed() {
     for tag in s.split('<').skip(1) {
         let inside = tag.split('>').next().unwrap();
         assert_eq!(inside.matches('"').count() % 2, 0, "quotes in <{inside}>");
+    }
+    assert!(check_nesting(&s) > 50);
+    // The checker itself rejects broken markup.
+    for bad in [
+        "<svg><g></svg>",
+        "<svg>a > b</svg>",
+        "<svg>a & b</svg>",
+        "<svg><g>",
+    ] {
+        assert!(
+            std::panic::catch_unwind(|| check_nesting(bad)).is_err(),
+            "{bad}"
+        );
     }
     assert!(s.len() < 1_000_000, "file size {} bytes", s.len());
     assert!(s.contains("Admissible region and cameras, a = 1, b = 0.5"));
@@ -208,6 +269,7 @@ fn another_field_ratio_and_custom_window() {
             assert_eq!(d.camera.label(), text, "a = {a}, b = {b}: ({m}, {h})");
         }
         assert!(s.contains("class=\"inset\""), "inset for a = {a}, b = {b}");
+        check_nesting(&s);
         assert_eq!(s.matches("<g ").count(), s.matches("</g>").count());
     }
     // a = 1, b = 1/2: every camera has room in the main plot.
@@ -498,6 +560,7 @@ fn odd_windows_and_sizes_give_well_formed_pictures() {
         assert!(s.starts_with("<svg ") && s.trim_end().ends_with("</svg>"));
         assert_eq!(s.matches("<g ").count(), s.matches("</g>").count());
         assert_eq!(s.matches("<text").count(), s.matches("</text>").count());
+        check_nesting(&s);
         assert!(s.contains("a &lt;test&gt; &amp; title"));
         assert!(
             !s.contains("NaN") && !s.contains("inf"),
