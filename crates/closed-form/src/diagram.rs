@@ -6,8 +6,11 @@
 //! and a legend with the order of the roots of Φ. The cameras are found by sweeping the plane in
 //! narrow vertical strips whose edges include every point where two curves of Σ meet or touch:
 //! inside a strip the curves do not cross, so the region between two vertically consecutive
-//! curves is a single camera, classified by [`ExplicitMotion::new`] at its middle point; the
-//! pieces of one camera are joined from strip to strip into polygons.
+//! curves is a single camera, classified at its middle point (by the oscillation segments, as in
+//! [`ExplicitMotion::new`]); the pieces of one camera are joined from strip to strip into
+//! polygons. Labels go to the point of each camera farthest from its boundary (on a ~3 px
+//! raster) where the text fits; otherwise to the nearest empty place with a leader line, and a
+//! camera only a few px thick is labelled in a zoomed inset below the legend.
 //!
 //! [`describe_point`] gives, for one point (m, h), the camera, the oscillation segments of s₁
 //! and s₂ in the notation of Table 1 and numerically, the elliptic moduli, periods, frequencies,
@@ -832,7 +835,8 @@ fn draw_plot(
     chains
 }
 
-/// Frame, ticks and tick labels of one plot.
+/// Frame, ticks and tick labels of one plot. The frame's `data-window="m_lo m_hi h_lo h_hi"`
+/// with its x, y, width, height give the map from (m, h) to px.
 fn draw_axes(s: &mut String, f: &Frame, ticks: f64, font: f64, grid: bool) {
     let m_step = nice_step(f.m_hi - f.m_lo, ticks);
     let h_step = nice_step(f.h_hi - f.h_lo, ticks);
@@ -870,7 +874,11 @@ fn draw_axes(s: &mut String, f: &Frame, ticks: f64, font: f64, grid: bool) {
     }
     let _ = writeln!(
         s,
-        r##"<rect class="frame" x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#000000" stroke-width="1.2"/>"##,
+        r##"<rect class="frame" data-window="{} {} {} {}" x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#000000" stroke-width="1.2"/>"##,
+        f.m_lo,
+        f.m_hi,
+        f.h_lo,
+        f.h_hi,
         fmt_px(f.x0),
         fmt_px(f.y0),
         fmt_px(f.w),
@@ -986,10 +994,18 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
     let ((dm_lo, dm_hi), (dh_lo, dh_hi)) = default_window(a, b)?;
     let (m_lo, m_hi) = opts.m_range.unwrap_or((dm_lo, dm_hi));
     let (h_lo, h_hi) = opts.h_range.unwrap_or((dh_lo, dh_hi));
-    for (name, lo, hi) in [("m_range", m_lo, m_hi), ("h_range", h_lo, h_hi)] {
+    for (name, lo, hi, given) in [
+        ("m_range", m_lo, m_hi, opts.m_range.is_some()),
+        ("h_range", h_lo, h_hi, opts.h_range.is_some()),
+    ] {
         if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+            let origin = if given {
+                ""
+            } else {
+                " (the default window for these a, b; pass m_range and h_range)"
+            };
             return Err(ClosedFormError::Parameters(format!(
-                "{name} must be two finite numbers lo < hi (got {lo}, {hi})"
+                "{name} must be two finite numbers lo < hi (got {lo}, {hi}){origin}"
             )));
         }
     }

@@ -6,7 +6,7 @@
 use rsts_closed_form::diagram::{
     default_window, describe_point, diagram_svg, DiagramOptions, PointDescription,
 };
-use rsts_closed_form::{Camera, ClosedFormError, SigmaCurve};
+use rsts_closed_form::{Camera, ClosedFormError, IntegralConstants, SigmaCurve};
 
 const A: f64 = 1.0;
 const B: f64 = 0.5;
@@ -235,6 +235,156 @@ fn svg_draws_every_curve_of_sigma() {
     let tag = &s[s[..start].rfind('<').unwrap()..];
     let d = attr(&tag[..tag.find('>').unwrap()], "d").unwrap();
     assert!(d.matches('L').count() > 100);
+}
+
+/// The main plot's map from px to (m, h), from its frame's data-window.
+struct PlotMap {
+    window: [f64; 4],
+    x: f64,
+    y: f64,
+    w: f64,
+    h: f64,
+}
+
+impl PlotMap {
+    fn of(svg: &str) -> Self {
+        let i = svg.find("<rect class=\"frame\"").unwrap();
+        let tag = &svg[i..i + svg[i..].find('>').unwrap()];
+        let window: Vec<f64> = attr(tag, "data-window")
+            .unwrap()
+            .split(' ')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let num = |n: &str| -> f64 { attr(tag, n).unwrap().parse().unwrap() };
+        Self {
+            window: [window[0], window[1], window[2], window[3]],
+            x: num("x"),
+            y: num("y"),
+            w: num("width"),
+            h: num("height"),
+        }
+    }
+    fn mh(&self, px: f64, py: f64) -> (f64, f64) {
+        let [m0, m1, h0, h1] = self.window;
+        (
+            m0 + (px - self.x) / self.w * (m1 - m0),
+            h1 - (py - self.y) / self.h * (h1 - h0),
+        )
+    }
+}
+
+/// The polygons of a path's d ("Mx,yLx,y…Z…").
+fn polygons(d: &str) -> Vec<Vec<(f64, f64)>> {
+    let mut out: Vec<Vec<(f64, f64)>> = Vec::new();
+    for sub in d.split('M').filter(|t| !t.is_empty()) {
+        let pts = sub
+            .trim_end_matches('Z')
+            .split('L')
+            .map(|p| {
+                let (x, y) = p.split_once(',').unwrap();
+                (x.parse().unwrap(), y.parse().unwrap())
+            })
+            .collect();
+        out.push(pts);
+    }
+    out
+}
+
+/// Even-odd rule over all polygons of a path.
+fn inside(polys: &[Vec<(f64, f64)>], (x, y): (f64, f64)) -> bool {
+    let mut c = false;
+    for poly in polys {
+        for k in 0..poly.len() {
+            let (xi, yi) = poly[k];
+            let (xj, yj) = poly[(k + poly.len() - 1) % poly.len()];
+            if (yi > y) != (yj > y) && x < (xj - xi) * (y - yi) / (yj - yi) + xi {
+                c = !c;
+            }
+        }
+    }
+    c
+}
+
+#[test]
+fn sigma_paths_lie_on_sigma() {
+    let s = svg();
+    let map = PlotMap::of(&s);
+    for c in SigmaCurve::ALL {
+        let id = format!("id=\"sigma-{c:?}\"");
+        let start = s.find(&id).unwrap();
+        let tag = &s[s[..start].rfind('<').unwrap()..];
+        let d = attr(&tag[..tag.find('>').unwrap()], "d").unwrap();
+        for poly in polygons(&d) {
+            for (x, y) in poly {
+                let (m, h) = map.mh(x, y);
+                let r = |m: f64, h: f64| IntegralConstants::unchecked(A, B, m, h).sigma_residual(c);
+                // The residual's change under the coordinates' rounding (0.005 px).
+                let dm = 0.006 * (map.window[1] - map.window[0]) / map.w;
+                let dh = 0.006 * (map.window[3] - map.window[2]) / map.h;
+                let r0 = r(m, h);
+                let tol = (r(m + dm, h) - r0).abs() + (r(m, h + dh) - r0).abs() + 1e-12;
+                let k = IntegralConstants::unchecked(A, B, m, h);
+                assert!(k.sigma_residual(c).abs() < tol, "{c:?} at ({m}, {h})");
+            }
+        }
+    }
+}
+
+#[test]
+fn camera_fills_match_the_classification() {
+    let s = svg();
+    let map = PlotMap::of(&s);
+    let fills: Vec<(String, Vec<Vec<(f64, f64)>>)> = s
+        .match_indices("<path class=\"camera\"")
+        .map(|(i, _)| {
+            let tag = &s[i..i + s[i..].find('>').unwrap()];
+            (
+                attr(tag, "data-camera").unwrap(),
+                polygons(&attr(tag, "d").unwrap()),
+            )
+        })
+        .collect();
+    assert_eq!(fills.len(), 9);
+    let camera_of = |x: f64, y: f64| -> Option<String> {
+        let (m, h) = map.mh(x, y);
+        describe_point(A, B, m, h)
+            .ok()
+            .map(|d| d.camera.label().to_string())
+    };
+    let (mut checked, mut outside) = (0, 0);
+    for j in 0..40 {
+        for i in 0..50 {
+            let x = map.x + (i as f64 + 0.5) * map.w / 50.0;
+            let y = map.y + (j as f64 + 0.5) * map.h / 40.0;
+            let here = camera_of(x, y);
+            // Skip points within 2 px of a boundary.
+            let near = [(2.0, 0.0), (-2.0, 0.0), (0.0, 2.0), (0.0, -2.0)]
+                .iter()
+                .any(|(dx, dy)| camera_of(x + dx, y + dy) != here);
+            if near {
+                continue;
+            }
+            let filled: Vec<&str> = fills
+                .iter()
+                .filter(|(_, polys)| inside(polys, (x, y)))
+                .map(|(c, _)| c.as_str())
+                .collect();
+            match &here {
+                Some(c) => {
+                    assert_eq!(filled, [c.as_str()], "fill at px ({x}, {y})");
+                    checked += 1;
+                }
+                None => {
+                    assert!(filled.is_empty(), "inadmissible px ({x}, {y}) filled");
+                    outside += 1;
+                }
+            }
+        }
+    }
+    assert!(
+        checked > 1000 && outside > 300,
+        "{checked} inside, {outside} outside"
+    );
 }
 
 #[test]
