@@ -273,8 +273,11 @@ impl PlotMap {
     }
 }
 
+/// Polygons in px.
+type Polygons = Vec<Vec<(f64, f64)>>;
+
 /// The polygons of a path's d ("Mx,yLx,y…Z…").
-fn polygons(d: &str) -> Vec<Vec<(f64, f64)>> {
+fn polygons(d: &str) -> Polygons {
     let mut out: Vec<Vec<(f64, f64)>> = Vec::new();
     for sub in d.split('M').filter(|t| !t.is_empty()) {
         let pts = sub
@@ -334,7 +337,7 @@ fn sigma_paths_lie_on_sigma() {
 fn camera_fills_match_the_classification() {
     let s = svg();
     let map = PlotMap::of(&s);
-    let fills: Vec<(String, Vec<Vec<(f64, f64)>>)> = s
+    let fills: Vec<(String, Polygons)> = s
         .match_indices("<path class=\"camera\"")
         .map(|(i, _)| {
             let tag = &s[i..i + s[i..].find('>').unwrap()];
