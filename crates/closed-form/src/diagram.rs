@@ -85,7 +85,7 @@ pub struct DiagramOptions {
     pub m_range: Option<(f64, f64)>,
     /// The h-range shown; `None`: from [`default_window`].
     pub h_range: Option<(f64, f64)>,
-    /// Size of the picture in px (600 × 400 to 8000 × 8000; the legend takes 270 px on the right).
+    /// Size of the picture in px (700 × 540 to 8000 × 8000; the legend takes 270 px on the right).
     pub width: u32,
     pub height: u32,
     /// Replaces the title "Admissible region and cameras, a = …, b = …".
@@ -1009,9 +1009,9 @@ pub fn diagram_svg(a: f64, b: f64, opts: &DiagramOptions) -> Result<String, Clos
             )));
         }
     }
-    if !(600..=8000).contains(&opts.width) || !(400..=8000).contains(&opts.height) {
+    if !(700..=8000).contains(&opts.width) || !(540..=8000).contains(&opts.height) {
         return Err(ClosedFormError::Parameters(format!(
-            "picture size must be between 600 × 400 and 8000 × 8000 px (got {} × {})",
+            "picture size must be between 700 × 540 and 8000 × 8000 px (got {} × {})",
             opts.width, opts.height
         )));
     }

@@ -679,6 +679,16 @@ fn write_example_pictures() {
     let path = dir.join("diagram-a1-b0.5-zoom.svg");
     std::fs::write(&path, diagram_svg(A, B, &zoom).unwrap()).unwrap();
     println!("{}", path.display());
+    let small = DiagramOptions {
+        width: 700,
+        height: 540,
+        ..DiagramOptions::default()
+    };
+    for (a, b) in [(1.0, 0.5), (1.0, 0.8)] {
+        let path = dir.join(format!("diagram-a{a}-b{b}-small.svg"));
+        std::fs::write(&path, diagram_svg(a, b, &small).unwrap()).unwrap();
+        println!("{}", path.display());
+    }
     for (_, m, h) in CAMERA_POINTS {
         println!("{}", describe_point(A, B, m, h).unwrap());
     }
@@ -699,7 +709,7 @@ fn odd_windows_and_sizes_give_well_formed_pictures() {
         // Huge.
         ((-1e4, 1e4), (-1e4, 1e4), 1000, 720),
         // Around the tangency of the hyperbola with h = r²m + 2a at m = −1/(2a).
-        ((-0.6, -0.4), (1.4, 1.8), 600, 400),
+        ((-0.6, -0.4), (1.4, 1.8), 700, 540),
         ((-3.0, 2.3), (-2.0, 4.4), 3000, 2000),
     ] {
         let opts = DiagramOptions {
