@@ -14,7 +14,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use commands::{compare, explicit, inspect, integrate};
+use commands::{compare, diagram, explicit, inspect, integrate};
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
 const EXIT_ERROR: u8 = 2;
@@ -50,6 +50,9 @@ enum Command {
     /// Evaluate the closed-form motion on the invariant manifold N (f64 or any number of digits).
     #[command(after_help = explicit::EXAMPLES)]
     Explicit(explicit::Args),
+    /// Draw the (m, h) plane (admissible region, Σ, cameras) or describe one point of it.
+    #[command(after_help = diagram::EXAMPLES)]
+    Diagram(diagram::Args),
     /// Compare an integrator with the closed form along a motion; optionally log it to MCAP.
     #[command(after_help = compare::EXAMPLES)]
     Compare(compare::Args),
@@ -63,6 +66,7 @@ impl Command {
         match self {
             Command::Integrate(args) => integrate::run(args, out),
             Command::Explicit(args) => explicit::run(args, out),
+            Command::Diagram(args) => diagram::run(args, out),
             Command::Compare(args) => compare::run(args, out),
             Command::Inspect(args) => inspect::run(args, out),
         }

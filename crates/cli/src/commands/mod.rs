@@ -1,6 +1,7 @@
 //! One module per subcommand, each with `Args`, `EXAMPLES` and `run(args, out)`.
 
 pub mod compare;
+pub mod diagram;
 pub mod explicit;
 pub mod inspect;
 pub mod integrate;

@@ -1,0 +1,95 @@
+//! `rsts diagram`: the (m, h) plane of N — admissible region, bifurcation diagram Σ and the cameras
+//! of Table 1 as an SVG picture, or the description of one point (camera, θ's, segments, tori,
+//! periods).
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use anyhow::{bail, Context};
+use clap::Args as ClapArgs;
+
+use rsts_closed_form::diagram::{describe_point, diagram_svg, DiagramOptions};
+
+use crate::args::finite_f64;
+use crate::output::{self, Format};
+
+/// Shown at the end of `rsts diagram --help`.
+pub const EXAMPLES: &str = "\
+Examples:
+  # the picture of the (m, h) plane for a = 1, b = 0.5
+  rsts diagram --a 1 --b 0.5 --svg out/diagram.svg
+
+  # one point: camera, roots of Phi, oscillation segments of s1 and s2, tori, periods
+  rsts diagram --a 1 --b 0.5 --m -0.7092 --h 1.5643
+  rsts diagram --m 0.3 --h -0.375 --format json";
+
+/// Options of `rsts diagram`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct Args {
+    /// Strength a of the first field; a > b > 0
+    #[arg(long, value_name = "A", default_value = "1", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub a: f64,
+    /// Strength b of the second field
+    #[arg(long, value_name = "B", default_value = "0.5", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub b: f64,
+    /// Write the picture of the (m, h) plane to this SVG file
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["m", "h"])]
+    pub svg: Option<PathBuf>,
+    /// Describe the point (m, h) (needs --h)
+    #[arg(long, value_name = "M", value_parser = finite_f64, allow_hyphen_values = true, requires = "h")]
+    pub m: Option<f64>,
+    /// Describe the point (m, h) (needs --m)
+    #[arg(long, value_name = "H", value_parser = finite_f64, allow_hyphen_values = true, requires = "m")]
+    pub h: Option<f64>,
+    /// m-range of the picture, LO,HI (default: a window showing every camera)
+    #[arg(long, value_name = "LO,HI", value_parser = range, allow_hyphen_values = true)]
+    pub m_range: Option<(f64, f64)>,
+    /// h-range of the picture, LO,HI
+    #[arg(long, value_name = "LO,HI", value_parser = range, allow_hyphen_values = true)]
+    pub h_range: Option<(f64, f64)>,
+    /// Output format of a point description
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+}
+
+/// `LO,HI` with LO < HI, both finite.
+fn range(s: &str) -> Result<(f64, f64), String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let [lo, hi] = parts[..] else {
+        return Err(format!("expected LO,HI, got '{s}'"));
+    };
+    let (lo, hi) = (finite_f64(lo)?, finite_f64(hi)?);
+    if lo >= hi {
+        return Err(format!("need LO < HI, got {lo},{hi}"));
+    }
+    Ok((lo, hi))
+}
+
+pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
+    match (&args.svg, args.m, args.h) {
+        (Some(path), None, None) => {
+            let opts = DiagramOptions {
+                m_range: args.m_range,
+                h_range: args.h_range,
+                ..DiagramOptions::default()
+            };
+            let svg = diagram_svg(args.a, args.b, &opts)?;
+            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir)
+                    .with_context(|| format!("--svg: cannot create {}", dir.display()))?;
+            }
+            std::fs::write(path, svg)
+                .with_context(|| format!("--svg: cannot write {}", path.display()))?;
+            writeln!(out, "wrote {}", path.display())?;
+        }
+        (None, Some(m), Some(h)) => {
+            let d = describe_point(args.a, args.b, m, h)?;
+            match args.format {
+                Format::Json => output::write_json(out, &d)?,
+                Format::Table | Format::Csv => write!(out, "{d}")?,
+            }
+        }
+        _ => bail!("give either --svg FILE (the picture) or --m M --h H (one point)"),
+    }
+    Ok(())
+}
