@@ -1,76 +1,10 @@
 //! Dormand–Prince 5(4) with dense output of order 4 (Hairer, Nørsett, Wanner, *Solving ODE I*,
 //! sec. II.5), from `ode_solvers`.
 
-use std::time::Instant;
+use super::ode_solvers_adapter::dormand_prince_method;
 
-use ode_solvers::OutputType;
-
-use crate::equations::VectorField;
-use crate::error::DynamicsError;
-
-use super::ode_solvers_adapter::{
-    collect_dense, convert_stats, initial_only, solver_end, to_vector, EulerPoissonSystem,
-    MAX_STEPS,
-};
-use super::{OutputGrid, Problem, Propagator, Solution, Tolerances};
-
-/// Dormand–Prince 5(4).
-#[derive(Clone, Copy, Debug)]
-pub struct Dopri5 {
-    pub tolerances: Tolerances,
-}
-
-impl Dopri5 {
-    pub const NAME: &'static str = "dopri5";
-    pub const ORDER: u32 = 5;
-
-    pub fn new(tolerances: Tolerances) -> Self {
-        Self { tolerances }
-    }
-}
-
-impl Propagator<f64> for Dopri5 {
-    fn name(&self) -> &'static str {
-        Self::NAME
-    }
-
-    fn propagate_grid(
-        &self,
-        problem: &Problem<f64>,
-        grid: &OutputGrid,
-    ) -> Result<Solution<f64>, DynamicsError> {
-        if grid.samples <= 1 || grid.t_end == 0.0 {
-            return Ok(initial_only(Self::NAME, &problem.initial));
-        }
-        let mut solver = ode_solvers::Dopri5::from_param(
-            EulerPoissonSystem(VectorField::new(&problem.fields)),
-            0.0,
-            solver_end(grid),
-            grid.spacing(),
-            to_vector(&problem.initial),
-            self.tolerances.rtol,
-            self.tolerances.atol,
-            0.9,
-            0.04,
-            0.2,
-            10.0,
-            grid.t_end,
-            0.0,
-            MAX_STEPS,
-            1000,
-            OutputType::Dense,
-        );
-        let start = Instant::now();
-        let stats = solver
-            .integrate()
-            .map_err(|e| DynamicsError::Integration(format!("{}: {e}", Self::NAME)))?;
-        let seconds = start.elapsed().as_secs_f64();
-        collect_dense(
-            Self::NAME,
-            grid,
-            solver.x_out(),
-            solver.y_out(),
-            convert_stats(stats, seconds),
-        )
-    }
+dormand_prince_method! {
+    /// Dormand–Prince 5(4).
+    Dopri5, ode_solvers::Dopri5<_, _, _>, name = "dopri5", order = 5,
+    beta = 0.04, fac_min = 0.2, fac_max = 10.0
 }

@@ -98,3 +98,75 @@ pub(super) fn initial_only(method: &'static str, initial: &State<f64>) -> Soluti
 /// Maximum number of steps allowed in one run (ode_solvers' default of 1e5 is too few for
 /// long validation runs at tight tolerances).
 pub(super) const MAX_STEPS: u32 = 200_000_000;
+
+/// Defines an adaptive Dormand–Prince method of `ode_solvers` as a project method: a type with
+/// its name and order as associated constants, configured by [`super::Tolerances`], implementing
+/// [`super::Propagator`] with dense output at the grid times. The step-size controller constants
+/// (PI parameter β, bounds of the step ratio) are those `ode_solvers` uses by default for it.
+macro_rules! dormand_prince_method {
+    ($(#[$doc:meta])* $ty:ident, $solver:path, name = $name:literal, order = $order:literal,
+     beta = $beta:literal, fac_min = $fac_min:literal, fac_max = $fac_max:literal) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug)]
+        pub struct $ty {
+            pub tolerances: $crate::integrators::Tolerances,
+        }
+
+        impl $ty {
+            pub const NAME: &'static str = $name;
+            pub const ORDER: u32 = $order;
+
+            pub fn new(tolerances: $crate::integrators::Tolerances) -> Self {
+                Self { tolerances }
+            }
+        }
+
+        impl $crate::integrators::Propagator<f64> for $ty {
+            fn name(&self) -> &'static str {
+                Self::NAME
+            }
+
+            fn propagate_grid(
+                &self,
+                problem: &$crate::integrators::Problem<f64>,
+                grid: &$crate::integrators::OutputGrid,
+            ) -> Result<$crate::integrators::Solution<f64>, $crate::error::DynamicsError> {
+                use $crate::integrators::ode_solvers_adapter as adapter;
+                if grid.samples <= 1 || grid.t_end == 0.0 {
+                    return Ok(adapter::initial_only(Self::NAME, &problem.initial));
+                }
+                let mut solver = <$solver>::from_param(
+                    adapter::EulerPoissonSystem($crate::equations::VectorField::new(&problem.fields)),
+                    0.0,
+                    adapter::solver_end(grid),
+                    grid.spacing(),
+                    adapter::to_vector(&problem.initial),
+                    self.tolerances.rtol,
+                    self.tolerances.atol,
+                    0.9,
+                    $beta,
+                    $fac_min,
+                    $fac_max,
+                    grid.t_end,
+                    0.0,
+                    adapter::MAX_STEPS,
+                    1000,
+                    ode_solvers::OutputType::Dense,
+                );
+                let start = std::time::Instant::now();
+                let stats = solver.integrate().map_err(|e| {
+                    $crate::error::DynamicsError::Integration(format!("{}: {e}", Self::NAME))
+                })?;
+                let seconds = start.elapsed().as_secs_f64();
+                adapter::collect_dense(
+                    Self::NAME,
+                    grid,
+                    solver.x_out(),
+                    solver.y_out(),
+                    adapter::convert_stats(stats, seconds),
+                )
+            }
+        }
+    };
+}
+pub(super) use dormand_prince_method;
