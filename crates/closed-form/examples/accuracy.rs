@@ -22,16 +22,8 @@ fn state<T: Real>(s: &rsts_closed_form::ExplicitState<T>) -> [f64; 9] {
 fn main() {
     let (a, b) = (1.0, 0.5);
     let d = 1e-9;
-    let points: [(&str, f64, f64); 16] = [
-        ("I+", 0.3, -0.375),
-        ("I-", -1.9244, 0.4503),
-        ("II+", 0.05, 1.058),
-        ("II-", -0.5573, 1.463),
-        ("III", -2.9877, 1.2605),
-        ("IV+", 0.05, 2.0706),
-        ("IV-", -0.3295, 1.7668),
-        ("V", -0.7092, 1.5643),
-        ("VI", -2.9877, 3.2858),
+    let cameras = rsts_closed_form::EXAMPLE_POINTS_A1_B05.map(|(c, m, h)| (c.label(), m, h));
+    let near_sigma: [(&str, f64, f64); 7] = [
         ("1e-9 above h = r²m − 2a", 1.0, -1.25 + d),
         ("1e-9 above h = −r²m − 2b", 0.0, -1.0 + d),
         ("1e-9 inside ℓ² = 0", -1.0, 1.75 - d),
@@ -40,6 +32,7 @@ fn main() {
         ("1e-9 below h = −r²m + 2b", 0.0, 1.0 - d),
         ("1e-9 above h = −r²m + 2b", 0.0, 1.0 + d),
     ];
+    let points = cameras.iter().chain(near_sigma.iter()).copied();
     let times = [0.0, 3.0, 100.0, 1e4, 1e6];
     println!("a = {a}, b = {b}, torus 0, phases (0.7, 2.1)");
     println!("| point | camera | k² (x, s2) | max |f64 − 60 digits| over t ∈ {{0, 3, 1e2, 1e4, 1e6}} | EP residual at 50 digits, t = 3 |");

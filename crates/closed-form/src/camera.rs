@@ -7,6 +7,20 @@ use serde::Serialize;
 
 use crate::roots::RootLabel::{self, *};
 
+/// A point (m, h) well inside each camera for a = 1, b = 1/2, found by scanning the (m, h) plane
+/// (`cargo run -p rsts-closed-form --example scan`); the tests check each point's camera.
+pub const EXAMPLE_POINTS_A1_B05: [(Camera, f64, f64); 9] = [
+    (Camera::IPlus, 0.3, -0.375),
+    (Camera::IMinus, -1.9244, 0.4503),
+    (Camera::IIPlus, 0.05, 1.058),
+    (Camera::IIMinus, -0.5573, 1.463),
+    (Camera::III, -2.9877, 1.2605),
+    (Camera::IVPlus, 0.05, 2.0706),
+    (Camera::IVMinus, -0.3295, 1.7668),
+    (Camera::V, -0.7092, 1.5643),
+    (Camera::VI, -2.9877, 3.2858),
+];
+
 /// A camera of Table 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 pub enum Camera {

@@ -18,7 +18,7 @@ pub mod roots;
 pub mod scalar;
 pub mod separated;
 
-pub use camera::Camera;
+pub use camera::{Camera, EXAMPLE_POINTS_A1_B05};
 pub use constants::{IntegralConstants, SigmaCurve};
 pub use error::ClosedFormError;
 pub use formulas::ExplicitState;

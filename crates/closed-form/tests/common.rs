@@ -11,19 +11,18 @@ use rsts_dynamics::vec3::{cross, det, mat_t_vec, mat_vec, mul, mul_bt, Mat3, Vec
 use rsts_dynamics::{Fields, Real, State, VectorField};
 use rug::Float;
 
-/// One point (m, h) per camera for a = 1, b = 1/2 (found by scanning the (m, h) plane; the camera
-/// of each is asserted in the tests, not assumed).
-pub const CAMERA_POINTS: [(&str, f64, f64); 9] = [
-    ("I+", 0.3, -0.375),
-    ("I-", -1.9244, 0.4503),
-    ("II+", 0.05, 1.058),
-    ("II-", -0.5573, 1.463),
-    ("III", -2.9877, 1.2605),
-    ("IV+", 0.05, 2.0706),
-    ("IV-", -0.3295, 1.7668),
-    ("V", -0.7092, 1.5643),
-    ("VI", -2.9877, 3.2858),
-];
+/// One point (m, h) per camera for a = 1, b = 1/2 (the camera of each is asserted in the tests).
+pub const CAMERA_POINTS: [(&str, f64, f64); 9] = {
+    let p = rsts_closed_form::EXAMPLE_POINTS_A1_B05;
+    let mut out = [("", 0.0, 0.0); 9];
+    let mut k = 0;
+    while k < 9 {
+        out[k] = (LABELS[k], p[k].1, p[k].2);
+        k += 1;
+    }
+    out
+};
+const LABELS: [&str; 9] = ["I+", "I-", "II+", "II-", "III", "IV+", "IV-", "V", "VI"];
 
 pub fn mp(x: f64, bits: u32) -> Float {
     Float::with_val(bits, x)

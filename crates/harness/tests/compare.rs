@@ -4,19 +4,6 @@
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances};
 use rsts_harness::{compare, Case, NoObserver, Observer, SampleRecord};
 
-/// One point per camera for a = 1, b = 1/2 (the camera is checked, not assumed).
-const CAMERAS: [(&str, f64, f64); 9] = [
-    ("I+", 0.3, -0.375),
-    ("I-", -1.9244, 0.4503),
-    ("II+", 0.05, 1.058),
-    ("II-", -0.5573, 1.463),
-    ("III", -2.9877, 1.2605),
-    ("IV+", 0.05, 2.0706),
-    ("IV-", -0.3295, 1.7668),
-    ("V", -0.7092, 1.5643),
-    ("VI", -2.9877, 3.2858),
-];
-
 fn case(m: f64, h: f64) -> Case {
     Case {
         a: 1.0,
@@ -37,7 +24,8 @@ fn config(method: MethodName, tol: f64) -> MethodConfig {
 
 #[test]
 fn tight_runs_are_accurate_and_loose_runs_are_caught_in_every_camera() {
-    for (label, m, h) in CAMERAS {
+    for (camera, m, h) in rsts_closed_form::EXAMPLE_POINTS_A1_B05 {
+        let label = camera.label();
         let tight = compare(
             &case(m, h),
             &config(MethodName::Dop853, 1e-12),
