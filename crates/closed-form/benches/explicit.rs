@@ -23,9 +23,11 @@ fn bench_in<T: Scalar>(c: &mut Criterion, label: &str, bits: u32) {
     group.measurement_time(std::time::Duration::from_secs(2));
     for t in [1.0, 1e3, 1e6] {
         let tt = x(t);
-        group.bench_with_input(BenchmarkId::from_parameter(format!("t={t:e}")), &tt, |b, tt| {
-            b.iter(|| black_box(motion.at(black_box(tt))))
-        });
+        group.bench_with_input(
+            BenchmarkId::from_parameter(format!("t={t:e}")),
+            &tt,
+            |b, tt| b.iter(|| black_box(motion.at(black_box(tt)))),
+        );
     }
     group.finish();
 }
