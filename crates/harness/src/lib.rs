@@ -7,10 +7,12 @@
 //! The closed form is evaluated [`REFERENCE_GUARD_BITS`] beyond the integrator's precision, so the
 //! reported error is the integrator's, not the reference's.
 
+pub mod bench;
 mod case;
 mod compare;
 mod metrics;
 
+pub use bench::{measure, measure_against, BenchRow, Reference};
 pub use case::Case;
 pub use compare::{compare, reference_bits, NoObserver, Observer, REFERENCE_GUARD_BITS};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot};

@@ -1,0 +1,354 @@
+//! Work–precision measurement (issue 5): one method at one tolerance, its largest state error
+//! against the closed form and what it cost.
+//!
+//! Unlike [`crate::compare`], a measurement integrates the whole grid in ONE call of
+//! [`MethodConfig::propagate_mp`] (no pieces, no restarts: the cost is the integrator's alone),
+//! repeats it `repeats` times and keeps the median of the integrator's own
+//! `stats.integration_seconds`. The closed form is evaluated once per [`Reference`], at
+//! [`reference_bits`] of the method (64 bits beyond it), and reused across repeats and
+//! tolerances.
+
+use rsts_closed_form::{ExplicitMotion, TorusChoice};
+use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Solution};
+use rsts_dynamics::{DynamicsError, Fields, State};
+use rug::Float;
+use serde::{Deserialize, Serialize};
+
+use crate::case::Case;
+use crate::compare::reference_bits;
+use crate::metrics::exact_state;
+use crate::HarnessError;
+
+/// One line of a work–precision table: the JSON row of `rsts bench` and of
+/// `scripts/peer_heyoka.py`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BenchRow {
+    pub method: String,
+    pub tolerance: f64,
+    /// max over samples and the nine components (ω, α, β) of |x − x_exact|.
+    pub max_error: f64,
+    /// Median over the repeats of the integrator's own wall time.
+    pub integration_seconds: f64,
+    pub steps: u64,
+    pub rhs_evals: u64,
+}
+
+/// The closed-form motion of a case at its sample times, at a given precision.
+#[derive(Clone, Debug)]
+pub struct Reference {
+    bits: u32,
+    grid: OutputGrid,
+    fields: Fields<Float>,
+    states: Vec<State<Float>>,
+}
+
+impl Reference {
+    /// Evaluate the closed form of `case` at its N sample times k·T/(N−1) (the f64 times of
+    /// [`OutputGrid::time`], taken exactly) in `bits` bits.
+    pub fn new(case: &Case, bits: u32) -> Result<Self, HarnessError> {
+        case.validate()?;
+        let f = |x: f64| Float::with_val(bits, x);
+        let choice = TorusChoice {
+            torus: case.torus,
+            phase1: case.phase1,
+            phase2: case.phase2,
+        };
+        let motion = ExplicitMotion::new(f(case.a), f(case.b), f(case.m), f(case.h), choice)?;
+        let fields = Fields::new(f(case.a), f(case.b))?;
+        let grid = OutputGrid::new(case.t_end, case.samples)?;
+        let states = (0..grid.samples)
+            .map(|k| exact_state(&motion.at(&f(grid.time(k)))))
+            .collect();
+        Ok(Self {
+            bits,
+            grid,
+            fields,
+            states,
+        })
+    }
+
+    /// Precision of the reference states.
+    pub fn bits(&self) -> u32 {
+        self.bits
+    }
+
+    pub fn grid(&self) -> &OutputGrid {
+        &self.grid
+    }
+
+    pub fn fields(&self) -> &Fields<Float> {
+        &self.fields
+    }
+
+    /// The exact states at the grid times; `states()[0]` is where every run starts.
+    pub fn states(&self) -> &[State<Float>] {
+        &self.states
+    }
+}
+
+/// Largest |x − y| over the samples and the nine components, computed at the precision of
+/// the reference and rounded to f64. Errors when the lengths differ.
+pub fn max_state_error(
+    reference: &[State<Float>],
+    states: &[State<Float>],
+) -> Result<f64, HarnessError> {
+    if reference.len() != states.len() {
+        return Err(HarnessError::Case(format!(
+            "{} states compared with {} reference states",
+            states.len(),
+            reference.len()
+        )));
+    }
+    let mut worst = 0.0f64;
+    for (x, y) in states.iter().zip(reference) {
+        let (x, y) = (x.to_array(), y.to_array());
+        for k in 0..x.len() {
+            let d = Float::with_val(y[k].prec(), &x[k] - &y[k]).abs();
+            worst = worst.max(d.to_f64());
+        }
+    }
+    Ok(worst)
+}
+
+/// Median of a non-empty list (mean of the two middle values for an even count); NaN for an
+/// empty one.
+pub fn median(values: &[f64]) -> f64 {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => v[n / 2],
+        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
+}
+
+/// Measure `config` on `case`: the closed form is evaluated at [`reference_bits`]`(config)`.
+pub fn measure(
+    case: &Case,
+    config: &MethodConfig,
+    repeats: usize,
+) -> Result<BenchRow, HarnessError> {
+    let reference = Reference::new(case, reference_bits(config))?;
+    measure_against(&reference, config, repeats)
+}
+
+/// Measure `config` against an already evaluated reference (which must carry at least
+/// [`reference_bits`]`(config)` bits): `repeats` (≥ 1) un-chunked runs over the whole grid.
+/// The error, steps and evaluations are those of the first run (the runs are deterministic);
+/// the time is the median over the runs.
+pub fn measure_against(
+    reference: &Reference,
+    config: &MethodConfig,
+    repeats: usize,
+) -> Result<BenchRow, HarnessError> {
+    if repeats == 0 {
+        return Err(HarnessError::Case("repeats must be at least 1".into()));
+    }
+    let needed = reference_bits(config);
+    if reference.bits < needed {
+        return Err(HarnessError::Case(format!(
+            "the reference has {} bits, {} needs {needed}",
+            reference.bits, config.method
+        )));
+    }
+    let problem = Problem {
+        fields: reference.fields.clone(),
+        initial: reference.states[0].clone(),
+    };
+    let mut row = summarize(reference, repeats, || {
+        config.propagate_mp(&problem, &reference.grid)
+    })?;
+    row.method = config.method.as_str().to_string();
+    row.tolerance = config.tolerances.rtol.min(config.tolerances.atol);
+    Ok(row)
+}
+
+/// Run `run` `repeats` times: error, steps and evaluations of the first run, median time.
+fn summarize(
+    reference: &Reference,
+    repeats: usize,
+    mut run: impl FnMut() -> Result<Solution<Float>, DynamicsError>,
+) -> Result<BenchRow, HarnessError> {
+    let mut seconds = Vec::with_capacity(repeats);
+    let mut first = None;
+    for _ in 0..repeats {
+        let sol = run()?;
+        seconds.push(sol.stats.integration_seconds);
+        if first.is_none() {
+            first = Some(sol);
+        }
+    }
+    let sol = first.ok_or_else(|| HarnessError::Case("repeats must be at least 1".into()))?;
+    Ok(BenchRow {
+        method: sol.method.to_string(),
+        tolerance: f64::NAN,
+        max_error: max_state_error(&reference.states, &sol.states)?,
+        integration_seconds: median(&seconds),
+        steps: sol.stats.accepted_steps,
+        rhs_evals: sol.stats.rhs_evals,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rsts_dynamics::integrators::{MethodName, Stats, Tolerances};
+
+    fn case(t_end: f64, samples: usize) -> Case {
+        Case {
+            t_end,
+            samples,
+            ..Case::default_i_plus()
+        }
+    }
+
+    fn config(method: MethodName, tol: f64) -> MethodConfig {
+        MethodConfig::new(method, Tolerances::new(tol, tol).unwrap(), None).unwrap()
+    }
+
+    #[test]
+    fn median_of_odd_even_and_unsorted_lists() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
+        assert_eq!(median(&[7.0]), 7.0);
+        assert_eq!(median(&[5.0, 1e-9, 1e9, 2.0, 3.0]), 3.0);
+        assert!(median(&[]).is_nan());
+    }
+
+    /// The reported error equals one computed independently: our own run of the integrator
+    /// (f64 API) against the closed form evaluated afresh at 300 bits, sample by sample.
+    #[test]
+    fn max_error_equals_an_independent_computation() {
+        let c = case(10.0, 21);
+        let cfg = config(MethodName::Dop853, 1e-9);
+        let row = measure(&c, &cfg, 2).unwrap();
+
+        let bits = 300;
+        let f = |x: f64| Float::with_val(bits, x);
+        let motion = ExplicitMotion::new(
+            f(c.a),
+            f(c.b),
+            f(c.m),
+            f(c.h),
+            TorusChoice {
+                torus: 0,
+                phase1: 0.0,
+                phase2: 0.0,
+            },
+        )
+        .unwrap();
+        let start = exact_state(&motion.at(&f(0.0)));
+        let problem = Problem {
+            fields: Fields::new(c.a, c.b).unwrap(),
+            initial: start.map(|x| x.to_f64()),
+        };
+        let grid = OutputGrid::new(c.t_end, c.samples).unwrap();
+        let sol = cfg.propagate_f64(&problem, &grid).unwrap();
+        let mut worst = 0.0f64;
+        for (k, s) in sol.states.iter().enumerate() {
+            let exact = exact_state(&motion.at(&f(grid.time(k)))).to_array();
+            for (x, y) in s.to_array().iter().zip(exact.iter()) {
+                worst = worst.max((f(*x) - y).abs().to_f64());
+            }
+        }
+        assert!(worst > 1e-13 && worst < 1e-6, "independent error {worst:e}");
+        assert!(
+            (row.max_error - worst).abs() <= 1e-6 * worst,
+            "reported {:e}, independent {worst:e}",
+            row.max_error
+        );
+        assert_eq!(row.steps, sol.stats.accepted_steps);
+        assert_eq!(row.rhs_evals, sol.stats.rhs_evals);
+        assert_eq!(row.method, "dop853");
+        assert_eq!(row.tolerance, 1e-9);
+    }
+
+    #[test]
+    fn max_state_error_finds_the_largest_component_and_checks_lengths() {
+        let bits = 200;
+        let z = || Float::with_val(bits, 0);
+        let zero = State {
+            omega: [z(), z(), z()],
+            alpha: [z(), z(), z()],
+            beta: [z(), z(), z()],
+        };
+        let mut off = zero.clone();
+        off.beta[2] = Float::with_val(bits, -3e-40);
+        let mut small = zero.clone();
+        small.omega[0] = Float::with_val(bits, 1e-41);
+        let e = max_state_error(&[zero.clone(), zero.clone()], &[small, off]).unwrap();
+        assert!((e - 3e-40).abs() < 1e-52, "{e:e}");
+        assert!(
+            max_state_error(std::slice::from_ref(&zero), &[zero.clone(), zero.clone()]).is_err()
+        );
+    }
+
+    /// Tighter tolerances give smaller errors and more work; the time is a median of positive
+    /// times; the reference must be precise enough for the method.
+    #[test]
+    fn errors_fall_with_tolerance_and_the_reference_is_checked() {
+        let c = case(10.0, 11);
+        let reference =
+            Reference::new(&c, reference_bits(&config(MethodName::TaylorF64, 1e-6))).unwrap();
+        assert_eq!(reference.states().len(), 11);
+        let loose = measure_against(&reference, &config(MethodName::TaylorF64, 1e-6), 3).unwrap();
+        let tight = measure_against(&reference, &config(MethodName::TaylorF64, 1e-13), 3).unwrap();
+        assert!(
+            tight.max_error < 1e-3 * loose.max_error,
+            "loose {:e}, tight {:e}",
+            loose.max_error,
+            tight.max_error
+        );
+        // Jorba–Zou: the order grows with the tolerance, the step hardly changes.
+        assert!(tight.rhs_evals > loose.rhs_evals);
+        assert!(loose.integration_seconds > 0.0 && loose.integration_seconds.is_finite());
+        let mp = config(MethodName::TaylorMp, 1e-40).with_digits(45).unwrap();
+        assert!(measure_against(&reference, &mp, 1).is_err(), "too few bits");
+        assert!(measure_against(&reference, &config(MethodName::Dop853, 1e-8), 0).is_err());
+    }
+
+    /// The time is the median of the repeats' own integration times (not the first, not the
+    /// mean); the error is measured on the states the runs return.
+    #[test]
+    fn time_is_the_median_of_the_repeats() {
+        let c = case(1.0, 3);
+        let reference = Reference::new(&c, 200).unwrap();
+        let times = [5.0, 0.5, 40.0, 1.5, 2.0];
+        let mut k = 0;
+        let row = summarize(&reference, times.len(), || {
+            let seconds = times[k];
+            k += 1;
+            let mut states = reference.states().to_vec();
+            states[2].alpha[1] += 1e-30 * k as f64;
+            Ok(Solution {
+                method: "fake",
+                times: reference.grid().times(),
+                states,
+                stats: Stats {
+                    accepted_steps: 10 * k as u64,
+                    rejected_steps: 0,
+                    rhs_evals: 100 * k as u64,
+                    integration_seconds: seconds,
+                },
+            })
+        })
+        .unwrap();
+        assert_eq!(k, 5, "every repeat runs");
+        assert_eq!(row.integration_seconds, 2.0);
+        assert_eq!(
+            (row.steps, row.rhs_evals),
+            (10, 100),
+            "stats of the first run"
+        );
+        assert!((row.max_error - 1e-30).abs() < 1e-40, "{:e}", row.max_error);
+    }
+
+    /// Extended precision reaches what f64 cannot.
+    #[test]
+    fn double_double_beats_the_f64_floor() {
+        let c = case(5.0, 6);
+        let dd = measure(&c, &config(MethodName::TaylorDd, 1e-28), 1).unwrap();
+        assert!(dd.max_error < 1e-25, "taylor-dd error {:e}", dd.max_error);
+        assert_eq!(dd.method, "taylor-dd");
+    }
+}
