@@ -14,7 +14,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use commands::{compare, diagram, explicit, inspect, integrate};
+use commands::{bench, compare, diagram, explicit, inspect, integrate};
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
 const EXIT_ERROR: u8 = 2;
@@ -59,6 +59,9 @@ enum Command {
     /// Summarise an MCAP log of `rsts compare`, or extract one of its series.
     #[command(after_help = inspect::EXAMPLES)]
     Inspect(inspect::Args),
+    /// Work-precision benchmark against the closed form: error, time, steps per method and tolerance.
+    #[command(after_help = bench::EXAMPLES)]
+    Bench(bench::Args),
 }
 
 impl Command {
@@ -69,6 +72,7 @@ impl Command {
             Command::Diagram(args) => diagram::run(args, out),
             Command::Compare(args) => compare::run(args, out),
             Command::Inspect(args) => inspect::run(args, out),
+            Command::Bench(args) => bench::run(args, out),
         }
     }
 }

@@ -1,5 +1,6 @@
 //! One module per subcommand, each with `Args`, `EXAMPLES` and `run(args, out)`.
 
+pub mod bench;
 pub mod compare;
 pub mod diagram;
 pub mod explicit;

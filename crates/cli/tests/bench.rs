@@ -1,0 +1,351 @@
+//! `rsts bench` as a user runs it: JSON rows, the work–precision SVG, a peer's rows, the
+//! reference file for the peer, and bad input. Short runs (T = 10, two tolerances).
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn rsts(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rsts"))
+        .args(args)
+        .output()
+        .expect("run rsts")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rsts-bench-tests-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+const QUICK: [&str; 7] = [
+    "bench",
+    "--t-end",
+    "10",
+    "--samples",
+    "21",
+    "--repeats",
+    "1",
+];
+
+fn bench(extra: &[&str]) -> Output {
+    let mut args = QUICK.to_vec();
+    args.extend_from_slice(extra);
+    rsts(&args)
+}
+
+fn bench_json(extra: &[&str]) -> Value {
+    let mut args = extra.to_vec();
+    args.extend_from_slice(&["--format", "json"]);
+    let out = bench(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON")
+}
+
+fn rows(doc: &Value) -> &Vec<Value> {
+    doc["rows"].as_array().expect("rows")
+}
+
+fn rows_of<'a>(doc: &'a Value, method: &str) -> Vec<&'a Value> {
+    rows(doc).iter().filter(|r| r["method"] == method).collect()
+}
+
+#[test]
+fn json_has_one_row_per_method_and_tolerance_and_dop853_errors_fall() {
+    let doc = bench_json(&[
+        "--methods",
+        "dop853,taylor-f64",
+        "--tolerances",
+        "1e-6,1e-11",
+    ]);
+    let rows = rows(&doc);
+    assert_eq!(rows.len(), 4);
+    for r in rows {
+        let obj = r.as_object().unwrap();
+        let mut keys: Vec<&str> = obj.keys().map(String::as_str).collect();
+        keys.sort();
+        assert_eq!(
+            keys,
+            [
+                "integration_seconds",
+                "max_error",
+                "method",
+                "rhs_evals",
+                "steps",
+                "tolerance"
+            ]
+        );
+        assert!(r["max_error"].as_f64().unwrap() > 0.0);
+        assert!(r["integration_seconds"].as_f64().unwrap() > 0.0);
+        assert!(r["steps"].as_u64().unwrap() > 0);
+        assert!(r["rhs_evals"].as_u64().unwrap() >= r["steps"].as_u64().unwrap());
+    }
+    for method in ["dop853", "taylor-f64"] {
+        let tols: Vec<f64> = rows_of(&doc, method)
+            .iter()
+            .map(|r| r["tolerance"].as_f64().unwrap())
+            .collect();
+        assert_eq!(tols, [1e-6, 1e-11], "{method}");
+    }
+    let d = rows_of(&doc, "dop853");
+    let (loose, tight) = (
+        d[0]["max_error"].as_f64().unwrap(),
+        d[1]["max_error"].as_f64().unwrap(),
+    );
+    assert!(
+        tight < 1e-3 * loose && tight < 1e-8,
+        "dop853: {loose:e} at 1e-6, {tight:e} at 1e-11"
+    );
+    assert!(d[1]["steps"].as_u64() > d[0]["steps"].as_u64());
+    assert_eq!(doc["case"]["t_end"], 10.0);
+    assert_eq!(doc["repeats"], 1);
+}
+
+#[test]
+fn svg_has_one_line_per_method() {
+    let path = tmp("wp.svg");
+    let p = path.to_str().unwrap();
+    let out = bench(&[
+        "--methods",
+        "dop853,dopri5,taylor-f64",
+        "--tolerances",
+        "1e-6,1e-10",
+        "--svg",
+        p,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert_eq!(svg.matches("<svg").count(), 1);
+    assert_eq!(svg.matches(r#"class="series""#).count(), 3);
+    for m in ["dop853", "dopri5", "taylor-f64"] {
+        assert!(svg.contains(&format!(r#"data-label="{m}""#)), "{m}");
+    }
+    assert_eq!(svg.matches("<polyline").count(), 3, "one line per method");
+    assert_eq!(svg.matches("<circle").count(), 6, "one marker per row");
+    assert!(!svg.contains("stroke-dasharray"), "no peer, no dashes");
+    assert!(svg.contains(">1e-"), "log axes");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("max error"));
+}
+
+fn peer_file(name: &str, text: &str) -> String {
+    let path = tmp(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn peer_rows_are_merged_dashed_and_prefixed() {
+    let peer = peer_file(
+        "peer.json",
+        r#"{"rows": [
+          {"method": "heyoka-f64", "tolerance": 1e-6, "max_error": 3e-7, "integration_seconds": 2e-4, "steps": 90, "rhs_evals": 900},
+          {"method": "heyoka-f64", "tolerance": 1e-11, "max_error": 4e-12, "integration_seconds": 4e-4, "steps": 95, "rhs_evals": 1300},
+          {"method": "real128", "tolerance": 1e-6, "max_error": 2e-7, "integration_seconds": 5e-3, "steps": 90, "rhs_evals": 900},
+          {"method": "real128", "tolerance": 1e-11, "max_error": 1e-12, "integration_seconds": 1e-2, "steps": 95, "rhs_evals": 1300}
+        ]}"#,
+    );
+    let doc = bench_json(&[
+        "--methods",
+        "taylor-f64",
+        "--tolerances",
+        "1e-6,1e-11",
+        "--peer",
+        &peer,
+    ]);
+    assert_eq!(rows(&doc).len(), 6);
+    let h = rows_of(&doc, "heyoka-f64");
+    assert_eq!(h.len(), 2);
+    assert_eq!(h[1]["max_error"], 4e-12);
+    assert_eq!(h[1]["steps"], 95);
+    assert_eq!(rows_of(&doc, "heyoka-real128").len(), 2, "prefixed");
+
+    let path = tmp("wp-peer.svg");
+    let out = bench(&[
+        "--methods",
+        "taylor-f64",
+        "--tolerances",
+        "1e-6,1e-11",
+        "--peer",
+        &peer,
+        "--svg",
+        path.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let table = String::from_utf8(out.stdout).unwrap();
+    assert!(table.contains("heyoka-f64") && table.contains("taylor-f64"));
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(svg.matches(r#"class="series""#).count(), 3);
+    // Two dashed peer lines, plus their two legend entries.
+    assert_eq!(svg.matches("stroke-dasharray").count(), 4);
+}
+
+#[test]
+fn malformed_peer_files_are_clear_errors() {
+    let cases = [
+        ("not-json.json", "{rows: oops", "not valid JSON"),
+        ("no-rows.json", r#"{"data": []}"#, "rows"),
+        ("empty.json", r#"{"rows": []}"#, "empty"),
+        (
+            "missing.json",
+            r#"{"rows": [{"method": "f64", "tolerance": 1e-8, "integration_seconds": 1, "steps": 1, "rhs_evals": 1}]}"#,
+            "row 1: \"max_error\"",
+        ),
+        (
+            "negative.json",
+            r#"{"rows": [{"method": "f64", "tolerance": 1e-8, "max_error": 1e-9, "integration_seconds": -1, "steps": 1, "rhs_evals": 1}]}"#,
+            "integration_seconds",
+        ),
+        (
+            "steps.json",
+            r#"{"rows": [{"method": "f64", "tolerance": 1e-8, "max_error": 1e-9, "integration_seconds": 1, "steps": 1.5, "rhs_evals": 1}]}"#,
+            "\"steps\"",
+        ),
+    ];
+    for (name, text, expect) in cases {
+        let peer = peer_file(name, text);
+        let out = bench(&["--tolerances", "1e-6", "--peer", &peer]);
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.starts_with("error: --peer") && err.contains(expect),
+            "{name}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{name}: {err}");
+        assert!(out.stdout.is_empty(), "{name}: no table on error");
+    }
+    let out = bench(&["--peer", tmp("does-not-exist.json").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read"));
+}
+
+#[test]
+fn unreachable_tolerances_are_skipped_with_a_note() {
+    let out = bench(&[
+        "--methods",
+        "taylor-f64,taylor-dd",
+        "--tolerances",
+        "1e-8,1e-20",
+        "--format",
+        "json",
+    ]);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("skipping taylor-f64 at tolerance 1e-20"),
+        "{err}"
+    );
+    assert!(!err.contains("skipping taylor-dd"), "{err}");
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(rows_of(&doc, "taylor-f64").len(), 1);
+    let dd = rows_of(&doc, "taylor-dd");
+    assert_eq!(dd.len(), 2);
+    assert!(dd[1]["max_error"].as_f64().unwrap() < 1e-18, "{}", dd[1]);
+
+    // Nothing left to run is an error.
+    let out = bench(&["--methods", "dop853", "--tolerances", "1e-17,1e-20"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("round-off"));
+}
+
+#[test]
+fn taylor_mp_digits_default_to_the_smallest_tolerance_plus_ten() {
+    let doc = bench_json(&["--methods", "taylor-mp", "--tolerances", "1e-20,1e-25"]);
+    assert_eq!(doc["taylor_mp_digits"], 35);
+    let mp = rows_of(&doc, "taylor-mp");
+    assert_eq!(mp.len(), 2);
+    let e = mp[1]["max_error"].as_f64().unwrap();
+    assert!(e < 1e-22 && e > 0.0, "{e:e}");
+}
+
+#[test]
+fn reference_file_has_the_closed_form_states_at_the_sample_times() {
+    let path = tmp("ref.json");
+    let out = rsts(&[
+        "bench",
+        "--t-end",
+        "2",
+        "--samples",
+        "5",
+        "--reference-digits",
+        "40",
+        "--write-reference",
+        path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(doc["format"], "rsts-reference-1");
+    let times: Vec<f64> = doc["times"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t.as_str().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(times, [0.0, 0.5, 1.0, 1.5, 2.0]);
+    let states = doc["states"].as_array().unwrap();
+    assert_eq!(states.len(), 5);
+    // The same states as `rsts explicit` at 40 digits (to its printed precision).
+    let explicit = rsts(&[
+        "explicit",
+        "--t-end",
+        "2",
+        "--samples",
+        "5",
+        "--digits",
+        "40",
+        "--format",
+        "json",
+    ]);
+    assert!(explicit.status.success());
+    let ex: Value = serde_json::from_slice(&explicit.stdout).unwrap();
+    for (k, s) in states.iter().enumerate() {
+        let s = s.as_array().unwrap();
+        assert_eq!(s.len(), 9);
+        let sample = &ex["samples"][k];
+        let want: Vec<&Value> = ["omega", "alpha", "beta"]
+            .iter()
+            .flat_map(|v| sample[v].as_array().unwrap())
+            .collect();
+        for (x, y) in s.iter().zip(want) {
+            let x = x.as_str().unwrap();
+            let y = y.as_str().unwrap();
+            let (xs, (x, y)): (&str, (f64, f64)) = (x, (x.parse().unwrap(), y.parse().unwrap()));
+            assert!(x == 0.0 || xs.len() >= 40, "{xs}: too few digits");
+            assert!((x - y).abs() <= 1e-15, "sample {k}: {x} vs {y}");
+        }
+    }
+}
+
+#[test]
+fn bad_input_is_rejected_with_exit_2() {
+    for args in [
+        &["--tolerances", "0"][..],
+        &["--tolerances", "-1e-8"],
+        &["--tolerances", "nan"],
+        &["--methods", "euler"],
+        &["--repeats", "0"],
+        &["--t-end", "0"],
+        &["--samples", "1"],
+        &["--b", "2"],
+        &["--methods", "taylor-mp", "--digits", "5"],
+    ] {
+        let out = bench(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("error"), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}
