@@ -18,21 +18,29 @@ Reference trajectory file (JSON, written by `make-reference` below or by any oth
 carrying as many digits as the reference has; `states[0]` is the initial state of every run.
 
     compare:        peer_heyoka.py compare REF.json --tolerances 1e-10,1e-15 \
-                        [--methods f64,real128,mpfr] [--mp-digits 40] [--out rows.json]
+                        [--methods f64,f64-ha,real128,mpfr] [--mp-digits 40] [--repeats 3] \
+                        [--out rows.json]
     make-reference: peer_heyoka.py make-reference --a 1 --b 0.5 \
                         --state w1,w2,w3,al1,al2,al3,be1,be2,be3 --t-end 20 --samples 41 \
                         [--digits 50] --out REF.json
 
+`rsts bench --write-reference REF.json` writes such a file from the closed-form motion (exact
+reference: the same one `rsts bench` measures against); `make-reference` below integrates one
+with heyoka in MPFR instead.
+
 `compare` prints (or writes) {"rows": [{"method", "tolerance", "max_error",
-"integration_seconds", "steps", "rhs_evals"}]}: max_error is the largest |x - x_ref| over all
-samples and components (evaluated in decimal arithmetic at 80 digits); integration_seconds is
-the wall time of propagate_grid alone (not the JIT compilation of the integrator); rhs_evals is
+"integration_seconds", "steps", "rhs_evals"}]}, the rows `rsts bench --peer FILE` reads:
+max_error is the largest |x - x_ref| over all samples and components (evaluated in decimal
+arithmetic 20 digits beyond the reference); integration_seconds is the median over --repeats
+runs of the wall time of propagate_grid alone (not the JIT compilation of the integrator, done
+once; the integrator is reset to t = 0 and the initial state before each run); rhs_evals is
 steps x order (one per Taylor coefficient order, the convention of rsts' Taylor integrators,
 which add one per step for their compensation).
 """
 
 import argparse
 import json
+import statistics
 import sys
 import time
 from decimal import Decimal, getcontext
@@ -80,26 +88,41 @@ def converter(method, bits):
         return hy.real128, lambda s: hy.real128(s)
     if method == "mpfr":
         return hy.real, lambda s: hy.real(s, bits)
-    raise SystemExit(f"unknown method {method!r} (known: f64, real128, mpfr)")
+    raise SystemExit(f"unknown method {method!r} (known: f64, f64-ha, real128, mpfr)")
 
 
-def integrate(method, a, b, state, times, tol, bits):
-    """States at `times` (decimal strings) and stats of one heyoka run."""
-    dtype, conv = converter(method, bits)
+def integrate(method, a, b, state, times, tol, bits, repeats=1):
+    """States at `times` (decimal strings) and stats of `repeats` heyoka runs from the same
+    integrator object (JIT-compiled once, reset to t = 0 and the initial state before each run):
+    the states and steps of the first run, the median of the run times.
+
+    Methods: f64, f64-ha (f64 with heyoka's high_accuracy mode: compensated summation of the
+    state, like rsts' taylor-f64), real128, mpfr (at `bits` bits)."""
+    scalar = "f64" if method == "f64-ha" else method
+    dtype, conv = converter(scalar, bits)
     init = np.array([conv(x) for x in state], dtype=dtype)
     pars = np.array([conv(a), conv(b)], dtype=dtype)
     grid = np.array([conv(t) for t in times], dtype=dtype)
-    kwargs = dict(tol=conv(repr(tol)) if method != "f64" else tol, pars=pars, fp_type=dtype)
-    if method == "mpfr":
+    kwargs = dict(tol=conv(repr(tol)) if scalar != "f64" else tol, pars=pars, fp_type=dtype)
+    if scalar == "mpfr":
         kwargs["prec"] = bits
+    if method == "f64-ha":
+        kwargs["high_accuracy"] = True
     ta = hy.taylor_adaptive(equations(), init, **kwargs)
-    start = time.perf_counter()
-    result = ta.propagate_grid(grid)
-    seconds = time.perf_counter() - start
-    outcome, steps, states = result[0], result[3], result[-1]
-    if outcome != hy.taylor_outcome.time_limit:
-        raise SystemExit(f"{method} at tol {tol}: heyoka stopped with {outcome}")
-    return states, {"steps": int(steps), "rhs_evals": int(steps) * int(ta.order), "seconds": seconds}
+    first, seconds = None, []
+    for _ in range(max(1, repeats)):
+        ta.time = grid[0]
+        ta.state[:] = init
+        start = time.perf_counter()
+        result = ta.propagate_grid(grid)
+        seconds.append(time.perf_counter() - start)
+        outcome, steps, states = result[0], result[3], result[-1]
+        if outcome != hy.taylor_outcome.time_limit:
+            raise SystemExit(f"{method} at tol {tol}: heyoka stopped with {outcome}")
+        if first is None:
+            first = (np.array(states, copy=True), int(steps))
+    states, steps = first
+    return states, {"steps": steps, "rhs_evals": steps * int(ta.order), "seconds": statistics.median(seconds)}
 
 
 def to_decimal(x):
@@ -126,13 +149,21 @@ def cmd_compare(args):
         raise SystemExit(f"{args.reference}: times[0] must be 0")
     if len(ref["times"]) != len(ref["states"]) or any(len(s) != 9 for s in ref["states"]):
         raise SystemExit(f"{args.reference}: need one 9-component state per time")
+    # Decimal arithmetic wider than the reference's digits, so the error is not the subtraction's.
+    digits = max(len(x.lstrip("-").split("e")[0]) for row in ref["states"] for x in row)
+    getcontext().prec = max(80, digits + 20)
     tols = [float(t) for t in args.tolerances.split(",")]
     methods = args.methods.split(",")
+    for method in methods:
+        converter("f64" if method == "f64-ha" else method, 64)  # unknown names fail before any run
     bits = bits_for_digits(args.mp_digits)
     rows = []
     for method in methods:
         for tol in tols:
-            states, stats = integrate(method, ref["a"], ref["b"], ref["states"][0], ref["times"], tol, bits)
+            states, stats = integrate(
+                method, ref["a"], ref["b"], ref["states"][0], ref["times"], tol, bits, args.repeats
+            )
+            print(f"heyoka {method} tol {tol:g}: {stats['seconds']:.3e} s", file=sys.stderr)
             name = f"heyoka-{method}" + (f"-{args.mp_digits}d" if method == "mpfr" else "")
             rows.append(
                 {
@@ -182,6 +213,7 @@ def main():
     c.add_argument("--tolerances", default="1e-15")
     c.add_argument("--methods", default="f64,real128,mpfr")
     c.add_argument("--mp-digits", type=int, default=40)
+    c.add_argument("--repeats", type=int, default=3, help="runs per tolerance; the time is their median")
     c.add_argument("--out")
     r = sub.add_parser("make-reference", help="write a reference file with heyoka in MPFR")
     r.add_argument("--a", default="1")
