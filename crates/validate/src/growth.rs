@@ -1,0 +1,152 @@
+//! How an error grows along a run: least-squares fits of log(error) against log(t) (polynomial,
+//! error ≈ C t^p) and against t (exponential, error ≈ C e^{λt}); the fit with the smaller residual
+//! wins.
+//!
+//! Fitted samples: t ≥ T/20 (the start is round-off noise), errors above 1e-300, and only up to
+//! the first sample where the error exceeds [`SATURATION`] (an error of order one no longer grows:
+//! the state is bounded).
+
+use serde::{Deserialize, Serialize};
+
+/// Errors above this are saturated: the fit stops there.
+pub const SATURATION: f64 = 1e-2;
+/// Fewer fitted samples than this: no fit.
+pub const MIN_POINTS: usize = 8;
+
+/// The better of the two fits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Model {
+    Polynomial,
+    Exponential,
+}
+
+/// Both fits of one error series.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Growth {
+    pub model: Model,
+    /// Exponent p of error ≈ C t^p.
+    pub p: f64,
+    /// Rate λ of error ≈ C e^{λt} (per unit time).
+    pub lambda: f64,
+    /// Root-mean-square residuals (in ln error) of the two fits.
+    pub rms_polynomial: f64,
+    pub rms_exponential: f64,
+    /// Number of samples fitted and the time span they cover.
+    pub points: usize,
+    pub t_from: f64,
+    pub t_to: f64,
+}
+
+impl Growth {
+    /// `t^1.02` or `e^(0.31 t)`.
+    pub fn describe(&self) -> String {
+        match self.model {
+            Model::Polynomial => format!("~t^{:.2}", self.p),
+            Model::Exponential => format!("~e^({:.3e} t)", self.lambda),
+        }
+    }
+}
+
+/// Least squares y ≈ c + s x: (slope, rms residual).
+fn line_fit(x: &[f64], y: &[f64]) -> Option<(f64, f64)> {
+    let n = x.len() as f64;
+    let mx = x.iter().sum::<f64>() / n;
+    let my = y.iter().sum::<f64>() / n;
+    let sxx: f64 = x.iter().map(|v| (v - mx) * (v - mx)).sum();
+    if sxx <= 0.0 || !sxx.is_finite() {
+        return None;
+    }
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let slope = sxy / sxx;
+    let c = my - slope * mx;
+    let ss: f64 = x
+        .iter()
+        .zip(y)
+        .map(|(a, b)| (b - c - slope * a).powi(2))
+        .sum();
+    Some((slope, (ss / n).sqrt()))
+}
+
+/// Fit the growth of `errors` along `times` (same length).
+pub fn fit(times: &[f64], errors: &[f64]) -> Option<Growth> {
+    let t_end = times.iter().copied().fold(0.0, f64::max);
+    if t_end <= 0.0 {
+        return None;
+    }
+    let mut t = Vec::new();
+    let mut y = Vec::new();
+    for (&ti, &ei) in times.iter().zip(errors) {
+        if !ei.is_finite() || ei > SATURATION {
+            break;
+        }
+        if ti >= t_end / 20.0 && ti > 0.0 && ei > 1e-300 {
+            t.push(ti);
+            y.push(ei.ln());
+        }
+    }
+    if t.len() < MIN_POINTS {
+        return None;
+    }
+    let lt: Vec<f64> = t.iter().map(|v| v.ln()).collect();
+    let (p, rms_p) = line_fit(&lt, &y)?;
+    let (lambda, rms_e) = line_fit(&t, &y)?;
+    Some(Growth {
+        model: if rms_e < rms_p {
+            Model::Exponential
+        } else {
+            Model::Polynomial
+        },
+        p,
+        lambda,
+        rms_polynomial: rms_p,
+        rms_exponential: rms_e,
+        points: t.len(),
+        t_from: t[0],
+        t_to: *t.last().expect("non-empty"),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(n: usize, t_end: f64) -> Vec<f64> {
+        (0..n).map(|k| t_end * k as f64 / (n - 1) as f64).collect()
+    }
+
+    #[test]
+    fn a_power_law_is_polynomial_with_its_exponent() {
+        let t = grid(400, 1000.0);
+        let e: Vec<f64> = t
+            .iter()
+            .map(|x| 1e-14 * x.powf(1.5) * (1.0 + 0.1 * (x * 3.1).sin()))
+            .collect();
+        let g = fit(&t, &e).unwrap();
+        assert_eq!(g.model, Model::Polynomial);
+        assert!((g.p - 1.5).abs() < 0.05, "{g:?}");
+    }
+
+    #[test]
+    fn an_exponential_is_exponential_with_its_rate_and_saturation_stops_the_fit() {
+        let t = grid(400, 100.0);
+        let e: Vec<f64> = t
+            .iter()
+            .map(|x| (1e-15 * (0.4 * x).exp()).min(2.0))
+            .collect();
+        let g = fit(&t, &e).unwrap();
+        assert_eq!(g.model, Model::Exponential);
+        assert!((g.lambda - 0.4).abs() < 1e-6, "{g:?}");
+        // 1e-15 e^{0.4 t} passes 1e-2 at t = ln(1e13)/0.4 ≈ 74.8: the fit stops there.
+        assert!(g.t_to < 74.9 && g.t_to > 74.0, "{g:?}");
+    }
+
+    #[test]
+    fn too_few_points_or_no_time_give_no_fit() {
+        assert!(fit(&[0.0, 0.0], &[1e-16, 1e-16]).is_none());
+        let t = grid(5, 10.0);
+        assert!(fit(&t, &[1e-16; 5]).is_none());
+        let t = grid(100, 10.0);
+        assert!(fit(&t, &[0.0; 100]).is_none());
+    }
+}

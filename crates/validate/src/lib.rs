@@ -1,0 +1,104 @@
+//! Validation suites (issue 6): run every camera and the hard cases of a TOML suite in parallel,
+//! judge each run against its thresholds, fit how errors grow, compare with a baseline, write
+//! report.json, report.md and SVG plots, and split a suite into shards that merge back into the
+//! report of the whole suite.
+//!
+//! Entry points: [`Suite::load`], [`validate`], [`merge_dirs`]. The format of suites and reports is
+//! in docs/validation.md.
+
+pub mod closed_form_check;
+pub mod growth;
+pub mod plots;
+pub mod report;
+pub mod run;
+pub mod shard;
+pub mod suite;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+pub use report::{merge, Report};
+pub use run::{RunResult, Status};
+pub use shard::Shard;
+pub use suite::Suite;
+
+/// Errors of a validation (bad input or I/O); failed runs are not errors but part of the report.
+#[derive(Debug, thiserror::Error)]
+pub enum ValidateError {
+    #[error("suite: {0}")]
+    Suite(String),
+    #[error("{0}")]
+    Usage(String),
+    #[error("{0}")]
+    Io(String),
+    #[error("{0}")]
+    Run(String),
+}
+
+/// Options of a validation.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    pub suite: PathBuf,
+    pub report_dir: PathBuf,
+    pub baseline: Option<PathBuf>,
+    pub shard: Option<Shard>,
+    /// Threads; 0: one per core.
+    pub jobs: usize,
+}
+
+/// Run a suite (or one shard of it), compare with the baseline, write the report and the plots.
+/// `progress` sees each run as it finishes.
+pub fn validate(
+    opts: &Options,
+    progress: &(dyn Fn(&RunResult) + Sync),
+) -> Result<Report, ValidateError> {
+    let suite = Suite::load(&opts.suite)?;
+    // Read the baseline first: a missing one is an error before any work.
+    let baseline = opts.baseline.as_deref().map(Report::read).transpose()?;
+    let runs = match opts.shard {
+        Some(sh) => sh.select(&suite.runs),
+        None => suite.runs.clone(),
+    };
+    let started = Instant::now();
+    let results = run::execute_all(&runs, opts.jobs, progress)?;
+    let mut report = Report::new(
+        &suite.name,
+        &suite.digest,
+        suite.runs.len(),
+        opts.shard,
+        results,
+        started.elapsed().as_secs_f64(),
+    );
+    if let Some(b) = &baseline {
+        report.compare_with(b);
+    }
+    write_all(&report, &opts.report_dir)?;
+    Ok(report)
+}
+
+/// Merge the reports in `dirs` (shards of one suite) into `out`; optionally compare with a
+/// baseline.
+pub fn merge_dirs(
+    dirs: &[PathBuf],
+    out: &Path,
+    baseline: Option<&Path>,
+) -> Result<Report, ValidateError> {
+    let baseline = baseline.map(Report::read).transpose()?;
+    let parts = dirs
+        .iter()
+        .map(|d| Report::read(d))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut report = merge(&parts)?;
+    if let Some(b) = &baseline {
+        report.compare_with(b);
+    }
+    write_all(&report, out)?;
+    Ok(report)
+}
+
+fn write_all(report: &Report, dir: &Path) -> Result<(), ValidateError> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| ValidateError::Io(format!("cannot create {}: {e}", dir.display())))?;
+    let plots = plots::write_plots(report, dir)?;
+    report.write(dir, &plots)
+}

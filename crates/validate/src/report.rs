@@ -1,0 +1,464 @@
+//! report.json and report.md; regressions against a baseline; merging shard reports.
+//!
+//! Everything in report.json is a function of the suite and the machine, except the `timing`
+//! objects (per run and at the top) and the regressions of kind `time`: two runs of the same suite
+//! (or a merge of its shards) give reports equal up to those — see [`Report::without_timings`].
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::run::{nan_max, RunResult, Status};
+use crate::shard::Shard;
+use crate::ValidateError;
+
+/// Version of the report format.
+pub const FORMAT: u32 = 1;
+/// An error counts as grown when it is this many times its baseline…
+pub const ERROR_GROWTH: f64 = 10.0;
+/// …and the baseline is above this (below it the figure is zero for all purposes).
+pub const ERROR_FLOOR: f64 = 1e-300;
+/// A time counts as grown when it is this many times its baseline…
+pub const TIME_GROWTH: f64 = 2.0;
+/// …and the baseline took at least this long (shorter runs are timer noise).
+pub const TIME_FLOOR: f64 = 5e-3;
+
+/// Counts over the runs.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    pub runs: usize,
+    pub passed: usize,
+    pub failed: usize,
+    pub errors: usize,
+    /// Runs per camera.
+    pub cameras: BTreeMap<String, usize>,
+}
+
+/// A figure that got worse than its baseline.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Regression {
+    pub id: String,
+    /// `error` or `time`.
+    pub kind: String,
+    pub figure: String,
+    pub baseline: f64,
+    pub now: f64,
+}
+
+impl Regression {
+    pub fn describe(&self) -> String {
+        format!(
+            "{}: {} {:.3e} -> {:.3e} ({:.1}x)",
+            self.id,
+            self.figure,
+            self.baseline,
+            self.now,
+            self.now / self.baseline
+        )
+    }
+}
+
+/// What was compared with the baseline.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct BaselineComparison {
+    pub runs_compared: usize,
+    /// Runs of this report that the baseline does not have.
+    pub new_runs: usize,
+    pub regressions: Vec<Regression>,
+}
+
+/// Wall-clock time of the whole validation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ReportTiming {
+    pub wall_seconds: f64,
+}
+
+/// report.json.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Report {
+    pub format: u32,
+    pub suite: String,
+    /// Digest of the expanded suite: shards of one suite share it.
+    pub suite_digest: String,
+    /// Runs in the whole suite (all shards).
+    pub total_runs: usize,
+    /// The shard this report covers; absent for a full or merged run.
+    pub shard: Option<Shard>,
+    pub summary: Summary,
+    pub runs: Vec<RunResult>,
+    pub baseline: Option<BaselineComparison>,
+    pub timing: ReportTiming,
+}
+
+impl Report {
+    pub fn new(
+        suite: &str,
+        digest: &str,
+        total_runs: usize,
+        shard: Option<Shard>,
+        mut runs: Vec<RunResult>,
+        wall_seconds: f64,
+    ) -> Report {
+        runs.sort_by(|x, y| x.id.cmp(&y.id));
+        let mut summary = Summary {
+            runs: runs.len(),
+            ..Summary::default()
+        };
+        for r in &runs {
+            match r.status {
+                Status::Pass => summary.passed += 1,
+                Status::Fail => summary.failed += 1,
+                Status::Error => summary.errors += 1,
+            }
+            *summary.cameras.entry(r.camera.clone()).or_default() += 1;
+        }
+        Report {
+            format: FORMAT,
+            suite: suite.to_string(),
+            suite_digest: digest.to_string(),
+            total_runs,
+            shard,
+            summary,
+            runs,
+            baseline: None,
+            timing: ReportTiming { wall_seconds },
+        }
+    }
+
+    /// Read DIR/report.json (or a report.json path).
+    pub fn read(path: &Path) -> Result<Report, ValidateError> {
+        let file = if path.is_dir() {
+            path.join("report.json")
+        } else {
+            path.to_path_buf()
+        };
+        let text = std::fs::read_to_string(&file)
+            .map_err(|e| ValidateError::Io(format!("cannot read {}: {e}", file.display())))?;
+        let report: Report = serde_json::from_str(&text).map_err(|e| {
+            ValidateError::Usage(format!(
+                "{} is not a validation report: {e}",
+                file.display()
+            ))
+        })?;
+        if report.format != FORMAT {
+            return Err(ValidateError::Usage(format!(
+                "{}: report format {} (this rsts reads {FORMAT})",
+                file.display(),
+                report.format
+            )));
+        }
+        Ok(report)
+    }
+
+    /// The report as JSON with every `timing` object removed and time regressions dropped: what
+    /// must be identical between a run and a rerun or a merge of shards on one machine.
+    pub fn without_timings(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).expect("report serialises");
+        strip_timing(&mut v);
+        if let Some(regs) = v
+            .pointer_mut("/baseline/regressions")
+            .and_then(|r| r.as_array_mut())
+        {
+            regs.retain(|r| r["kind"] != "time");
+        }
+        v
+    }
+
+    /// Compare with a baseline report, per run id.
+    pub fn compare_with(&mut self, baseline: &Report) {
+        let old: BTreeMap<&str, &RunResult> =
+            baseline.runs.iter().map(|r| (r.id.as_str(), r)).collect();
+        let mut cmp = BaselineComparison::default();
+        for r in &self.runs {
+            let Some(b) = old.get(r.id.as_str()) else {
+                cmp.new_runs += 1;
+                continue;
+            };
+            cmp.runs_compared += 1;
+            for (figure, before, now) in error_figures(b)
+                .into_iter()
+                .zip(error_figures(r))
+                .filter_map(|((name, before), (_, now))| Some((name, before?, now?)))
+            {
+                // NaN now, finite before: a regression too.
+                if before > ERROR_FLOOR && (now.is_nan() || now > ERROR_GROWTH * before) {
+                    cmp.regressions.push(Regression {
+                        id: r.id.clone(),
+                        kind: "error".into(),
+                        figure: figure.into(),
+                        baseline: before,
+                        now,
+                    });
+                }
+            }
+            let (before, now) = (time_of(b), time_of(r));
+            if before >= TIME_FLOOR && now > TIME_GROWTH * before {
+                cmp.regressions.push(Regression {
+                    id: r.id.clone(),
+                    kind: "time".into(),
+                    figure: time_name(r).into(),
+                    baseline: before,
+                    now,
+                });
+            }
+        }
+        cmp.regressions
+            .sort_by(|x, y| (&x.id, &x.figure).cmp(&(&y.id, &y.figure)));
+        self.baseline = Some(cmp);
+    }
+
+    /// Runs that missed thresholds or could not be done, then regressions: one line each.
+    pub fn problems(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for r in &self.runs {
+            match r.status {
+                Status::Pass => {}
+                Status::Fail => out.push(format!("FAIL {}: {}", r.id, r.failures.join("; "))),
+                Status::Error => out.push(format!(
+                    "ERROR {}: {}",
+                    r.id,
+                    r.error.as_deref().unwrap_or("")
+                )),
+            }
+        }
+        if let Some(b) = &self.baseline {
+            for reg in &b.regressions {
+                out.push(format!("REGRESSION {}", reg.describe()));
+            }
+        }
+        out
+    }
+
+    /// Write report.json and report.md into `dir` (plots are written by [`crate::plots`]).
+    pub fn write(&self, dir: &Path, plots: &[(String, String)]) -> Result<(), ValidateError> {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| ValidateError::Io(format!("cannot create {}: {e}", dir.display())))?;
+        let json = serde_json::to_string_pretty(self).expect("report serialises");
+        let put = |name: &str, text: &str| {
+            let p = dir.join(name);
+            std::fs::write(&p, text)
+                .map_err(|e| ValidateError::Io(format!("cannot write {}: {e}", p.display())))
+        };
+        put("report.json", &(json + "\n"))?;
+        put("report.md", &self.markdown(plots))
+    }
+
+    /// report.md: summary, problems, the table of runs, the plots.
+    pub fn markdown(&self, plots: &[(String, String)]) -> String {
+        let mut s = String::new();
+        let sm = &self.summary;
+        let _ = writeln!(s, "# Validation report: {}\n", self.suite);
+        let _ = writeln!(
+            s,
+            "Suite digest `{}`; {} of {} runs{}. **{} passed, {} failed, {} errors**{}.\n",
+            self.suite_digest,
+            sm.runs,
+            self.total_runs,
+            self.shard
+                .map(|sh| format!(" (shard {sh})"))
+                .unwrap_or_default(),
+            sm.passed,
+            sm.failed,
+            sm.errors,
+            match &self.baseline {
+                Some(b) => format!(
+                    "; against the baseline: {} runs compared, {} new, {} regressions",
+                    b.runs_compared,
+                    b.new_runs,
+                    b.regressions.len()
+                ),
+                None => String::new(),
+            }
+        );
+        let cams: Vec<String> = sm
+            .cameras
+            .iter()
+            .map(|(c, n)| format!("{c}: {n}"))
+            .collect();
+        let _ = writeln!(s, "Runs per camera: {}.\n", cams.join(", "));
+        let problems = self.problems();
+        if !problems.is_empty() {
+            let _ = writeln!(s, "## Problems\n");
+            for p in &problems {
+                let _ = writeln!(s, "- {}", p.replace('|', "\\|"));
+            }
+            s.push('\n');
+        }
+        let _ = writeln!(s, "## Runs\n");
+        let _ = writeln!(
+            s,
+            "Max error: max |x_int − x_exact| over (ω, α, β) and the samples (closed form: |f64 − 50 digits|). Drift: max over H, K, G and the constraints (closed form: Euler–Poisson residual at 50 digits). Growth: fit of log(state error) against log t or t (p of t^p, λ of e^(λt)); off N likewise. Time: integration (closed form: the whole check).\n"
+        );
+        let _ = writeln!(
+            s,
+            "| run | case | camera | method | max error | drift | off N | growth (error; off N) | time (s) | result |"
+        );
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
+        let e = |x: f64| format!("{x:.2e}");
+        for r in &self.runs {
+            let method = match (r.rtol, r.digits) {
+                (Some(t), Some(d)) => format!("{} {t:e} ({d} digits)", r.method),
+                (Some(t), None) => format!("{} {t:e}", r.method),
+                _ => r.method.clone(),
+            };
+            let (err, drift, off) = match (&r.figures, &r.closed_form) {
+                (Some(f), _) => (e(f.max_state_error), e(f.max_drift()), e(f.off_n)),
+                (None, Some(c)) => (e(c.f64_error), e(c.residual), "".into()),
+                _ => ("".into(), "".into(), "".into()),
+            };
+            let g = |x: &Option<crate::growth::Growth>| {
+                x.map(|g| g.describe()).unwrap_or_else(|| "–".into())
+            };
+            let growth = if r.figures.is_some() {
+                format!("{}; {}", g(&r.growth.state_error), g(&r.growth.off_n))
+            } else {
+                String::new()
+            };
+            let result = match r.status {
+                Status::Pass => "pass".to_string(),
+                Status::Fail => format!("**FAIL**: {}", r.failures.join("; ")),
+                Status::Error => format!("**ERROR**: {}", r.error.as_deref().unwrap_or("")),
+            };
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {:.3} | {} |",
+                r.id,
+                r.case,
+                r.camera,
+                method,
+                err,
+                drift,
+                off,
+                growth,
+                time_of(r),
+                result.replace('|', "\\|")
+            );
+        }
+        if !plots.is_empty() {
+            let _ = writeln!(s, "\n## Plots\n");
+            for (file, title) in plots {
+                let _ = writeln!(s, "- [{title}]({file})");
+            }
+        }
+        s
+    }
+}
+
+fn strip_timing(v: &mut serde_json::Value) {
+    match v {
+        serde_json::Value::Object(map) => {
+            map.remove("timing");
+            for x in map.values_mut() {
+                strip_timing(x);
+            }
+        }
+        serde_json::Value::Array(a) => a.iter_mut().for_each(strip_timing),
+        _ => {}
+    }
+}
+
+/// The error figures of a run compared with the baseline.
+fn error_figures(r: &RunResult) -> Vec<(&'static str, Option<f64>)> {
+    let f = r.figures.as_ref();
+    let c = r.closed_form.as_ref();
+    vec![
+        ("max_state_error", f.map(|f| f.max_state_error)),
+        ("max_drift", f.map(|f| f.max_drift())),
+        ("off_N", f.map(|f| f.off_n)),
+        ("closed_form_f64", c.map(|c| c.f64_error)),
+        ("closed_form_residual", c.map(|c| c.residual)),
+    ]
+}
+
+fn time_of(r: &RunResult) -> f64 {
+    if r.figures.is_some() {
+        r.timing.integration_seconds
+    } else {
+        r.timing.wall_seconds
+    }
+}
+
+fn time_name(r: &RunResult) -> &'static str {
+    if r.figures.is_some() {
+        "integration_seconds"
+    } else {
+        "wall_seconds"
+    }
+}
+
+/// Join shard reports into the report of the whole suite.
+pub fn merge(parts: &[Report]) -> Result<Report, ValidateError> {
+    let first = parts
+        .first()
+        .ok_or_else(|| ValidateError::Usage("merge: no reports given".into()))?;
+    let bad = |m: String| ValidateError::Usage(format!("merge: {m}"));
+    let mut seen_shards = BTreeSet::new();
+    let mut ids = BTreeSet::new();
+    let mut runs = Vec::new();
+    let mut wall = 0.0f64;
+    let n = first.shard.map_or(1, |s| s.n);
+    for p in parts {
+        if p.suite_digest != first.suite_digest || p.suite != first.suite {
+            return Err(bad(format!(
+                "reports of different suites ({} {} and {} {})",
+                first.suite, first.suite_digest, p.suite, p.suite_digest
+            )));
+        }
+        let sh = p.shard.unwrap_or(Shard { k: 1, n: 1 });
+        if sh.n != n {
+            return Err(bad(format!(
+                "shards of different counts ({n} and {})",
+                sh.n
+            )));
+        }
+        if !seen_shards.insert(sh.k) {
+            return Err(bad(format!("shard {sh} given twice")));
+        }
+        for r in &p.runs {
+            if !ids.insert(r.id.clone()) {
+                return Err(bad(format!("run {} occurs in two reports", r.id)));
+            }
+            runs.push(r.clone());
+        }
+        wall = nan_max(wall, p.timing.wall_seconds);
+    }
+    let missing: Vec<String> = (1..=n)
+        .filter(|k| !seen_shards.contains(k))
+        .map(|k| format!("{k}/{n}"))
+        .collect();
+    if !missing.is_empty() {
+        return Err(bad(format!("missing shard(s) {}", missing.join(", "))));
+    }
+    if runs.len() != first.total_runs {
+        return Err(bad(format!(
+            "the shards hold {} runs, the suite has {}",
+            runs.len(),
+            first.total_runs
+        )));
+    }
+    let mut merged = Report::new(
+        &first.suite,
+        &first.suite_digest,
+        first.total_runs,
+        None,
+        runs,
+        wall,
+    );
+    // Regressions found by the shards against their baseline carry over.
+    let with_baseline: Vec<&BaselineComparison> =
+        parts.iter().filter_map(|p| p.baseline.as_ref()).collect();
+    if !with_baseline.is_empty() {
+        let mut b = BaselineComparison::default();
+        for x in with_baseline {
+            b.runs_compared += x.runs_compared;
+            b.new_runs += x.new_runs;
+            b.regressions.extend(x.regressions.iter().cloned());
+        }
+        b.regressions
+            .sort_by(|x, y| (&x.id, &x.figure).cmp(&(&y.id, &y.figure)));
+        merged.baseline = Some(b);
+    }
+    Ok(merged)
+}

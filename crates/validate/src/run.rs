@@ -1,0 +1,384 @@
+//! Running the runs of a suite in parallel (rayon) and judging each against its thresholds.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use rsts_closed_form::TorusChoice;
+use rsts_harness::{compare, Observer, SampleRecord};
+use serde::{Deserialize, Serialize};
+
+use crate::closed_form_check::{self, ClosedFormCheck};
+use crate::growth::{self, Growth};
+use crate::suite::{Run, RunKind, Thresholds};
+use crate::ValidateError;
+
+/// At most this many points of each error series are kept in the report (for the plots).
+pub const SERIES_POINTS: usize = 400;
+
+/// Outcome of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    Pass,
+    Fail,
+    /// The run could not be done (the integrator or the closed form gave an error).
+    Error,
+}
+
+/// Errors and cost of an integrator run (deterministic for a machine).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Figures {
+    pub max_state_error: f64,
+    pub final_state_error: f64,
+    pub max_orientation_error: f64,
+    #[serde(rename = "drift_H")]
+    pub drift_h: f64,
+    #[serde(rename = "drift_K")]
+    pub drift_k: f64,
+    #[serde(rename = "drift_G")]
+    pub drift_g: f64,
+    pub drift_constraints: f64,
+    #[serde(rename = "off_N")]
+    pub off_n: f64,
+    pub steps: u64,
+    pub rejected_steps: u64,
+    pub rhs_evals: u64,
+    pub samples_compared: usize,
+}
+
+impl Figures {
+    /// The largest drift of H, K, G and the constraints.
+    pub fn max_drift(&self) -> f64 {
+        [
+            self.drift_h,
+            self.drift_k,
+            self.drift_g,
+            self.drift_constraints,
+        ]
+        .into_iter()
+        .fold(0.0, nan_max)
+    }
+}
+
+/// max that keeps NaN (a NaN error must fail, not vanish).
+pub fn nan_max(x: f64, y: f64) -> f64 {
+    if x.is_nan() || y.is_nan() {
+        f64::NAN
+    } else {
+        x.max(y)
+    }
+}
+
+/// Growth fits of the state error and of the distance from N.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct GrowthFits {
+    pub state_error: Option<Growth>,
+    #[serde(rename = "off_N")]
+    pub off_n: Option<Growth>,
+}
+
+/// Error series, downsampled to at most [`SERIES_POINTS`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Series {
+    pub t: Vec<f64>,
+    pub state_error: Vec<f64>,
+    #[serde(rename = "off_N")]
+    pub off_n: Vec<f64>,
+}
+
+/// Wall-clock figures: the only part of a result that changes from run to run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Timing {
+    /// The integrator alone (harness measurement); 0 for the closed-form check.
+    pub integration_seconds: f64,
+    /// The whole run, comparison included.
+    pub wall_seconds: f64,
+}
+
+/// The result of one run, as stored in report.json.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunResult {
+    pub id: String,
+    pub case: String,
+    pub camera: String,
+    pub a: f64,
+    pub b: f64,
+    pub m: f64,
+    pub h: f64,
+    pub torus: usize,
+    pub t_end: f64,
+    pub samples: usize,
+    /// `closed-form` or the integrator's name.
+    pub method: String,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub rtol: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub digits: Option<u32>,
+    pub thresholds: Thresholds,
+    pub status: Status,
+    /// The thresholds missed, each naming the figure, its value and the threshold.
+    pub failures: Vec<String>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub error: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub figures: Option<Figures>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub closed_form: Option<ClosedFormCheck>,
+    #[serde(default)]
+    pub growth: GrowthFits,
+    #[serde(default)]
+    pub series: Series,
+    pub timing: Timing,
+}
+
+/// Collects every sample's errors.
+#[derive(Default)]
+struct Collector {
+    t: Vec<f64>,
+    state_error: Vec<f64>,
+    off_n: Vec<f64>,
+}
+
+impl Observer for Collector {
+    fn on_sample(&mut self, r: &SampleRecord) -> Result<(), String> {
+        self.t.push(r.t);
+        self.state_error.push(r.errors.state_error);
+        self.off_n.push(r.errors.off_n);
+        Ok(())
+    }
+}
+
+/// Evenly spread indices, at most `n`, first and last included.
+pub fn downsample_indices(len: usize, n: usize) -> Vec<usize> {
+    if len <= n {
+        return (0..len).collect();
+    }
+    let mut v: Vec<usize> = (0..n).map(|k| k * (len - 1) / (n - 1)).collect();
+    v.dedup();
+    v
+}
+
+fn judge(r: &mut RunResult) {
+    let th = r.thresholds;
+    let mut fails = Vec::new();
+    let mut over = |name: &str, value: f64, limit: Option<f64>, note: String| {
+        if let Some(limit) = limit {
+            // NaN fails.
+            if value.is_nan() || value > limit {
+                fails.push(format!("{name} {value:.3e} > {limit:.3e}{note}"));
+            }
+        }
+    };
+    if let Some(f) = &r.figures {
+        let growth = r
+            .growth
+            .state_error
+            .map(|g| format!(" (grows {})", g.describe()))
+            .unwrap_or_default();
+        let off_growth = r
+            .growth
+            .off_n
+            .map(|g| format!(" (grows {})", g.describe()))
+            .unwrap_or_default();
+        over(
+            "max_state_error",
+            f.max_state_error,
+            th.max_state_error,
+            growth.clone(),
+        );
+        if let (Some(k), Some(rtol)) = (th.max_state_error_over_tol, r.rtol) {
+            over(
+                "max_state_error",
+                f.max_state_error,
+                Some(k * rtol),
+                format!(" = {k:e} × rtol{growth}"),
+            );
+        }
+        over("max_drift", f.max_drift(), th.max_drift, String::new());
+        over("off_N", f.off_n, th.max_off_n, off_growth);
+    }
+    if let Some(c) = &r.closed_form {
+        over(
+            "closed_form_f64",
+            c.f64_error,
+            th.closed_form_f64,
+            String::new(),
+        );
+        over(
+            "closed_form_residual",
+            c.residual,
+            th.closed_form_residual,
+            String::new(),
+        );
+    }
+    r.status = if r.error.is_some() {
+        Status::Error
+    } else if fails.is_empty() {
+        Status::Pass
+    } else {
+        Status::Fail
+    };
+    r.failures = fails;
+}
+
+/// Do one run.
+pub fn execute(run: &Run) -> RunResult {
+    let started = Instant::now();
+    let (method, rtol, digits) = match &run.kind {
+        RunKind::ClosedForm => ("closed-form".to_string(), None, None),
+        RunKind::Integrator {
+            method,
+            rtol,
+            digits,
+            ..
+        } => (method.clone(), Some(*rtol), *digits),
+    };
+    let mut r = RunResult {
+        id: run.id.clone(),
+        case: run.case.clone(),
+        camera: run.camera.clone(),
+        a: run.a,
+        b: run.b,
+        m: run.m,
+        h: run.h,
+        torus: run.torus,
+        t_end: run.t_end,
+        samples: run.samples,
+        method,
+        rtol,
+        digits,
+        thresholds: run.thresholds,
+        status: Status::Pass,
+        failures: Vec::new(),
+        error: None,
+        figures: None,
+        closed_form: None,
+        growth: GrowthFits::default(),
+        series: Series::default(),
+        timing: Timing::default(),
+    };
+    match run.method_config() {
+        Err(e) => r.error = Some(e.to_string()),
+        Ok(None) => {
+            let choice = TorusChoice {
+                torus: run.torus,
+                phase1: run.phase1,
+                phase2: run.phase2,
+            };
+            let times = closed_form_check::check_times(run.t_end, run.samples);
+            match closed_form_check::check(run.a, run.b, run.m, run.h, choice, &times) {
+                Ok(c) => r.closed_form = Some(c),
+                Err(e) => r.error = Some(e.to_string()),
+            }
+        }
+        Ok(Some(config)) => {
+            let mut obs = Collector::default();
+            match compare(&run.harness_case(), &config, &mut obs) {
+                Err(e) => r.error = Some(e.to_string()),
+                Ok(rep) => {
+                    r.figures = Some(Figures {
+                        max_state_error: rep.max_state_error,
+                        final_state_error: rep.final_state_error,
+                        max_orientation_error: rep.max_orientation_error,
+                        drift_h: rep.drift.h,
+                        drift_k: rep.drift.k,
+                        drift_g: rep.drift.g,
+                        drift_constraints: rep.drift.constraints,
+                        off_n: rep.drift.off_n,
+                        steps: rep.steps,
+                        rejected_steps: rep.rejected_steps,
+                        rhs_evals: rep.rhs_evals,
+                        samples_compared: rep.samples_compared,
+                    });
+                    r.timing.integration_seconds = rep.integration_seconds;
+                    r.growth = GrowthFits {
+                        state_error: growth::fit(&obs.t, &obs.state_error),
+                        off_n: growth::fit(&obs.t, &obs.off_n),
+                    };
+                    let idx = downsample_indices(obs.t.len(), SERIES_POINTS);
+                    r.series = Series {
+                        t: idx.iter().map(|&k| obs.t[k]).collect(),
+                        state_error: idx.iter().map(|&k| obs.state_error[k]).collect(),
+                        off_n: idx.iter().map(|&k| obs.off_n[k]).collect(),
+                    };
+                }
+            }
+        }
+    }
+    judge(&mut r);
+    r.timing.wall_seconds = started.elapsed().as_secs_f64();
+    r
+}
+
+/// Do all runs on `jobs` threads (0: rayon's default, the number of cores); results sorted by id.
+pub fn execute_all(
+    runs: &[Run],
+    jobs: usize,
+    progress: &(dyn Fn(&RunResult) + Sync),
+) -> Result<Vec<RunResult>, ValidateError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .build()
+        .map_err(|e| ValidateError::Run(format!("cannot start {jobs} threads: {e}")))?;
+    let mut results: Vec<RunResult> = pool.install(|| {
+        runs.par_iter()
+            .map(|run| {
+                let r = execute(run);
+                progress(&r);
+                r
+            })
+            .collect()
+    });
+    results.sort_by(|x, y| x.id.cmp(&y.id));
+    Ok(results)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::suite::Suite;
+
+    #[test]
+    fn downsampling_keeps_both_ends_and_at_most_n() {
+        assert_eq!(downsample_indices(3, 400), vec![0, 1, 2]);
+        let v = downsample_indices(10_001, 400);
+        assert_eq!(v.len(), 400);
+        assert_eq!((v[0], *v.last().unwrap()), (0, 10_000));
+    }
+
+    #[test]
+    fn a_loose_run_passes_loose_thresholds_and_fails_strict_ones_naming_them() {
+        let text = |thr: &str| {
+            format!(
+                "[[case]]\nname = \"c\"\nm = 0.3\nh = -0.375\nt_end = 20.0\nsamples = 101\nmethods = [\"dopri5\"]\ntolerances = [1e-6]\n[case.thresholds]\n{thr}\n"
+            )
+        };
+        let loose = Suite::parse(&text("max_state_error = 1e-2\nmax_drift = 1e-3"), "s").unwrap();
+        let results = execute_all(&loose.runs, 2, &|_| {}).unwrap();
+        assert_eq!(results.len(), 2);
+        assert!(
+            results.iter().all(|r| r.status == Status::Pass),
+            "{results:?}"
+        );
+        let cf = &results[0];
+        assert_eq!(cf.method, "closed-form");
+        assert!(cf.closed_form.unwrap().f64_error < 1e-12);
+        let int = &results[1];
+        assert_eq!(int.camera, "I+");
+        let f = int.figures.unwrap();
+        assert!(f.max_state_error > 1e-12 && f.steps > 0, "{f:?}");
+        assert_eq!(int.series.t.len(), 101);
+
+        let strict = Suite::parse(&text("max_state_error = 1e-15"), "s").unwrap();
+        let results = execute_all(&strict.runs, 1, &|_| {}).unwrap();
+        let int = &results[1];
+        assert_eq!(int.status, Status::Fail);
+        assert!(
+            int.failures[0].starts_with("max_state_error"),
+            "{:?}",
+            int.failures
+        );
+        // Same figures whatever the number of threads.
+        assert_eq!(int.figures, Some(f));
+    }
+}
