@@ -345,10 +345,49 @@ fn counterpart(label: &str) -> Option<&'static str> {
     }
 }
 
+/// Our series take the palette in order; a peer's series takes the colour of our method of the
+/// same precision ([`counterpart`]) unless another peer series has it, else the next free one.
+fn assign_colours(series: &mut [Series]) {
+    let palette = rsts_plots::PALETTE;
+    let mut used: Vec<usize> = Vec::new();
+    let mut colour_of: Vec<Option<usize>> = vec![None; series.len()];
+    for k in (0..series.len()).filter(|&k| !series[k].dashed) {
+        let c = (0..palette.len())
+            .map(|i| (k + i) % palette.len())
+            .find(|c| !used.contains(c));
+        colour_of[k] = c.or(Some(k % palette.len()));
+        used.extend(colour_of[k]);
+    }
+    let mut taken_by_peer: Vec<usize> = Vec::new();
+    for k in 0..series.len() {
+        if !series[k].dashed {
+            continue;
+        }
+        let twin = counterpart(&series[k].label).and_then(|ours| {
+            series.iter().position(|s| {
+                !s.dashed && (s.label == ours || s.label.starts_with(&format!("{ours}-")))
+            })
+        });
+        let c = match twin.and_then(|j| colour_of[j]) {
+            Some(c) if !taken_by_peer.contains(&c) => c,
+            _ => (0..palette.len())
+                .find(|c| !used.contains(c))
+                .unwrap_or(k % palette.len()),
+        };
+        taken_by_peer.push(c);
+        used.push(c);
+        colour_of[k] = Some(c);
+    }
+    for (s, c) in series.iter_mut().zip(colour_of) {
+        s.color = c.map(|c| palette[c].to_string());
+    }
+}
+
 /// The work–precision diagram: one line per method, max error against seconds (log–log).
 fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::Result<String> {
     let mut series: Vec<Series> = Vec::new();
-    let mut peer_of: Vec<bool> = Vec::new();
+    // (tolerance, error, seconds) per series, drawn from loose to tight tolerance.
+    let mut points: Vec<Vec<(f64, f64, f64)>> = Vec::new();
     for l in rows {
         let k = match series.iter().position(|s| s.label == l.label) {
             Some(k) => k,
@@ -356,38 +395,17 @@ fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::Result<Stri
                 let mut s = Series::new(l.label.clone(), Vec::new(), Style::LineMarkers);
                 s.dashed = l.peer;
                 series.push(s);
-                peer_of.push(l.peer);
+                points.push(Vec::new());
                 series.len() - 1
             }
         };
-        series[k]
-            .points
-            .push((l.row.max_error, l.row.integration_seconds));
+        points[k].push((l.row.tolerance, l.row.max_error, l.row.integration_seconds));
     }
-    for s in &mut series {
-        // Along the line from loose to tight.
-        s.points.sort_by(|p, q| q.0.total_cmp(&p.0));
+    for (s, mut p) in series.iter_mut().zip(points) {
+        p.sort_by(|a, b| b.0.total_cmp(&a.0));
+        s.points = p.into_iter().map(|(_, e, t)| (e, t)).collect();
     }
-    let colours: Vec<Option<String>> = (0..series.len())
-        .map(|k| {
-            if !peer_of[k] {
-                return Some(rsts_plots::PALETTE[k % rsts_plots::PALETTE.len()].to_string());
-            }
-            let ours = counterpart(&series[k].label)?;
-            series
-                .iter()
-                .position(|s| s.label == ours || s.label.starts_with(&format!("{ours}-")))
-                .map(|j| rsts_plots::PALETTE[j % rsts_plots::PALETTE.len()].to_string())
-        })
-        .collect();
-    let ours = series.iter().filter(|s| !s.dashed).count();
-    let mut next = ours;
-    for (s, c) in series.iter_mut().zip(colours) {
-        s.color = Some(c.unwrap_or_else(|| {
-            next += 1;
-            rsts_plots::PALETTE[(next - 1) % rsts_plots::PALETTE.len()].to_string()
-        }));
-    }
+    assign_colours(&mut series);
     let chart = Chart {
         title: format!(
             "Work–precision: a = {}, b = {}, m = {}, h = {}, T = {}",
@@ -542,6 +560,34 @@ mod tests {
         assert_eq!(default_mp_digits(1e-70), 80);
         assert_eq!(default_mp_digits(1e-8), 18);
         assert_eq!(default_mp_digits(0.5), 11);
+    }
+
+    #[test]
+    fn every_series_has_its_own_colour_and_a_peer_shares_its_twins() {
+        let mk = |label: &str, dashed: bool| {
+            let mut s = Series::new(label, vec![(1.0, 1.0)], Style::LineMarkers);
+            s.dashed = dashed;
+            s
+        };
+        let mut series = vec![
+            mk("dop853", false),
+            mk("taylor-f64", false),
+            mk("heyoka-f64", true),
+            mk("heyoka-f64-ha", true),
+            mk("other", true),
+        ];
+        assign_colours(&mut series);
+        let c: Vec<String> = series.iter().map(|s| s.color.clone().unwrap()).collect();
+        assert_eq!(c[2], c[1], "heyoka-f64 drawn like taylor-f64");
+        for i in 0..c.len() {
+            for j in 0..i {
+                assert!(
+                    i == 2 && j == 1 || c[i] != c[j],
+                    "{i} and {j} share {}",
+                    c[i]
+                );
+            }
+        }
     }
 
     #[test]
