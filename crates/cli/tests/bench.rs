@@ -349,3 +349,52 @@ fn bad_input_is_rejected_with_exit_2() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }
+
+/// The real peer: `scripts/peer_heyoka.py` reads our reference file and writes rows that
+/// `--peer` accepts, with heyoka's errors as small as ours. Needs heyoka
+/// (`scripts/install_heyoka.sh`; `$RSTS_HEYOKA_PYTHON` or `.venv-heyoka/bin/python`):
+/// `cargo test -p rsts-cli --release --test bench -- --ignored`.
+#[test]
+#[ignore = "needs heyoka (scripts/install_heyoka.sh)"]
+fn heyoka_peer_rows_round_trip() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let python = std::env::var_os("RSTS_HEYOKA_PYTHON")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join(".venv-heyoka/bin/python"));
+    let reference = tmp("heyoka-ref.json");
+    let rows = tmp("heyoka-rows.json");
+    let out = bench(&["--write-reference", reference.to_str().unwrap()]);
+    assert!(out.status.success());
+    let peer = Command::new(&python)
+        .arg(root.join("scripts/peer_heyoka.py"))
+        .args(["compare", reference.to_str().unwrap()])
+        .args(["--methods", "f64,real128", "--tolerances", "1e-8,1e-14"])
+        .args(["--repeats", "1", "--out", rows.to_str().unwrap()])
+        .output()
+        .expect("run python");
+    assert!(
+        peer.status.success(),
+        "{}",
+        String::from_utf8_lossy(&peer.stderr)
+    );
+    let doc = bench_json(&[
+        "--methods",
+        "taylor-f64",
+        "--tolerances",
+        "1e-8,1e-14",
+        "--peer",
+        rows.to_str().unwrap(),
+    ]);
+    let h = rows_of(&doc, "heyoka-f64");
+    let ours = rows_of(&doc, "taylor-f64");
+    assert_eq!((h.len(), ours.len()), (2, 2));
+    assert_eq!(rows_of(&doc, "heyoka-real128").len(), 2);
+    for (a, b) in h.iter().zip(&ours) {
+        let (ea, eb) = (
+            a["max_error"].as_f64().unwrap(),
+            b["max_error"].as_f64().unwrap(),
+        );
+        assert!(ea > 0.0 && ea < 100.0 * eb && eb < 100.0 * ea, "{a} {b}");
+        assert_eq!(a["steps"], b["steps"], "same Jorba–Zou steps");
+    }
+}
