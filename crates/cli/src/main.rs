@@ -14,7 +14,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use commands::{bench, compare, diagram, explicit, inspect, integrate};
+use commands::{bench, compare, diagram, explicit, inspect, integrate, surfaces, table1, table2};
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
 const EXIT_ERROR: u8 = 2;
@@ -62,6 +62,15 @@ enum Command {
     /// Work-precision benchmark against the closed form: error, time, steps per method and tolerance.
     #[command(after_help = bench::EXAMPLES)]
     Bench(bench::Args),
+    /// Bearing surfaces of one integral manifold: PLY meshes, shaded PNG pictures, MCAP scene.
+    #[command(after_help = surfaces::EXAMPLES)]
+    Surfaces(surfaces::Args),
+    /// The seed's Table 1 recomputed: roots of Phi and oscillation segments per camera.
+    #[command(after_help = table1::EXAMPLES)]
+    Table1(table1::Args),
+    /// Partial pendulum motions and symmetry planes of the bearing surfaces per camera (Table 2).
+    #[command(after_help = table2::EXAMPLES)]
+    Table2(table2::Args),
 }
 
 impl Command {
@@ -73,6 +82,9 @@ impl Command {
             Command::Compare(args) => compare::run(args, out),
             Command::Inspect(args) => inspect::run(args, out),
             Command::Bench(args) => bench::run(args, out),
+            Command::Surfaces(args) => surfaces::run(args, out),
+            Command::Table1(args) => table1::run(args, out),
+            Command::Table2(args) => table2::run(args, out),
         }
     }
 }

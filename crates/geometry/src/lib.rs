@@ -9,6 +9,8 @@ pub mod mesh;
 pub mod nearest;
 pub mod ply;
 pub mod render;
+pub mod scene;
+pub mod tables;
 
 pub use classify::{camera_geometry, CameraGeometry, MotionKinds, PendulumKind};
 pub use mesh::{Surface, TorusMesh};

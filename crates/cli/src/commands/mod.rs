@@ -6,3 +6,6 @@ pub mod diagram;
 pub mod explicit;
 pub mod inspect;
 pub mod integrate;
+pub mod surfaces;
+pub mod table1;
+pub mod table2;

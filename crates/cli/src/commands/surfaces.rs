@@ -1,0 +1,186 @@
+//! `rsts surfaces`: the bearing surfaces of one integral manifold (seed sec. 3, Table 2) — the
+//! P-surface (ω, body frame) and Π-surface (Ω = Qω, fixed frame) of each torus as PLY meshes
+//! from a grid in the angles (ψ₁, ψ₂), shaded PNG pictures with the hodograph drawn on them, and
+//! an MCAP scene of Poinsot's picture (the P-surface rolling with the body while the fixed
+//! hodograph traces the Π-surface).
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use anyhow::{bail, Context};
+use clap::Args as ClapArgs;
+
+use rsts_closed_form::{ExplicitMotion, TorusChoice};
+use rsts_geometry::mesh::{hodograph, Surface, TorusMesh, MAX_GRID, MIN_GRID};
+use rsts_geometry::ply::ply_text;
+use rsts_geometry::render::{render_png, RenderOptions};
+use rsts_geometry::scene::write_scene;
+
+use crate::args::{count, finite_f64};
+
+/// Shown at the end of `rsts surfaces --help`.
+pub const EXAMPLES: &str = "\
+Examples:
+  # every torus of camera V (a = 1, b = 0.5): PLY, PNG and the MCAP scene in out/V
+  rsts surfaces --m -0.7092 --h 1.5643 --out out/V
+
+  # one torus, the pictures of docs/geometry.md
+  rsts surfaces --a 1 --b 0.5 --m 0.3 --h -0.375 --torus 0 --out docs/img/I+ --no-mcap --no-ply
+
+  # finer mesh, other view, longer hodograph
+  rsts surfaces --m -2.9877 --h 3.2858 --grid 128 --azimuth 60 --elevation 15 --periods 10 --out out/VI";
+
+/// Options of `rsts surfaces`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct Args {
+    /// Strength a of the first field; a > b > 0
+    #[arg(long, value_name = "A", default_value = "1", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub a: f64,
+    /// Strength b of the second field
+    #[arg(long, value_name = "B", default_value = "0.5", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub b: f64,
+    /// Integral constant m
+    #[arg(long, value_name = "M", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub m: f64,
+    /// Energy h
+    #[arg(long, value_name = "H", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub h: f64,
+    /// Only this torus (0..tori); default: every torus of the integral manifold
+    #[arg(long, value_name = "K")]
+    pub torus: Option<usize>,
+    /// Output directory (created)
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Grid size per angle of the PLY meshes and pictures
+    #[arg(long, value_name = "N", default_value = "96", value_parser = count)]
+    pub grid: usize,
+    /// Grid size per angle of the surfaces in the MCAP scene (kept modest)
+    #[arg(long, value_name = "N", default_value = "64", value_parser = count)]
+    pub scene_grid: usize,
+    /// Picture size in px (square)
+    #[arg(long, value_name = "PX", default_value = "480")]
+    pub size: u32,
+    /// Viewing azimuth in degrees (about the third axis, from the first)
+    #[arg(long, default_value = "35", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub azimuth: f64,
+    /// Viewing elevation in degrees
+    #[arg(long, default_value = "25", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub elevation: f64,
+    /// Length of the hodograph, in units of the longer of the two angle periods
+    #[arg(long, value_name = "P", default_value = "3", value_parser = finite_f64)]
+    pub periods: f64,
+    /// Samples of the hodograph
+    #[arg(long, value_name = "N", default_value = "3000", value_parser = count)]
+    pub samples: usize,
+    /// Initial angles ψ1,ψ2 of the hodograph on the torus
+    #[arg(long, value_name = "PSI1,PSI2", default_value = "0.3,1.1", value_parser = pair, allow_hyphen_values = true)]
+    pub phases: (f64, f64),
+    /// Do not write the PLY meshes
+    #[arg(long)]
+    pub no_ply: bool,
+    /// Do not write the MCAP scene
+    #[arg(long)]
+    pub no_mcap: bool,
+}
+
+fn pair(s: &str) -> Result<(f64, f64), String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let [p, q] = parts[..] else {
+        return Err(format!("expected two numbers PSI1,PSI2, got '{s}'"));
+    };
+    Ok((finite_f64(p)?, finite_f64(q)?))
+}
+
+pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
+    for (name, n) in [("--grid", args.grid), ("--scene-grid", args.scene_grid)] {
+        if !(MIN_GRID..=MAX_GRID).contains(&n) {
+            bail!("{name} must be in {MIN_GRID}..={MAX_GRID}, got {n}");
+        }
+    }
+    if !(args.periods > 0.0 && args.periods <= 1e4) {
+        bail!("--periods must be in (0, 1e4], got {}", args.periods);
+    }
+    if !(2..=1_000_000).contains(&args.samples) {
+        bail!("--samples must be in 2..=1000000, got {}", args.samples);
+    }
+    let choice = |torus| TorusChoice {
+        torus,
+        phase1: args.phases.0,
+        phase2: args.phases.1,
+    };
+    let first = ExplicitMotion::<f64>::new(args.a, args.b, args.m, args.h, choice(0))?;
+    let tori: Vec<usize> = match args.torus {
+        Some(k) if k >= first.tori => bail!(
+            "--torus {k}: camera {} has {} torus/tori (0..{})",
+            first.camera,
+            first.tori,
+            first.tori
+        ),
+        Some(k) => vec![k],
+        None => (0..first.tori).collect(),
+    };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("--out: cannot create {}", args.out.display()))?;
+    let opts = RenderOptions {
+        width: args.size,
+        height: args.size,
+        azimuth_deg: args.azimuth,
+        elevation_deg: args.elevation,
+    };
+    writeln!(
+        out,
+        "camera {} (a = {}, b = {}, m = {}, h = {}), {} torus/tori",
+        first.camera, args.a, args.b, args.m, args.h, first.tori
+    )?;
+    for k in tori {
+        let motion = ExplicitMotion::<f64>::new(args.a, args.b, args.m, args.h, choice(k))?;
+        let mesh = TorusMesh::new(&motion, args.grid, args.grid)?;
+        let [p1, p2] = motion.periods();
+        let t_end = args.periods * p1.max(p2);
+        let hod = hodograph(&motion, t_end, args.samples)?;
+        let write = |name: String, bytes: &[u8]| -> anyhow::Result<PathBuf> {
+            let path = args.out.join(name);
+            std::fs::write(&path, bytes)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            Ok(path)
+        };
+        let mut written = Vec::new();
+        for surface in Surface::BOTH {
+            let (verts, curve) = match surface {
+                Surface::P => (&mesh.omega, &hod.omega),
+                Surface::Pi => (&mesh.omega_fixed, &hod.omega_fixed),
+            };
+            let stem = format!("torus{k}_{}", surface.file_stem());
+            if !args.no_ply {
+                let comment = format!(
+                    "rsts {}: camera {}, a = {}, b = {}, m = {}, h = {}, torus {k}, grid {n}x{n} in (psi1, psi2)",
+                    surface.title(),
+                    motion.camera,
+                    args.a,
+                    args.b,
+                    args.m,
+                    args.h,
+                    n = args.grid
+                );
+                let text = ply_text(verts, &mesh.triangles, Some(&mesh.angles), &comment);
+                written.push(write(format!("{stem}.ply"), text.as_bytes())?);
+            }
+            let png = render_png(verts, &mesh.triangles, curve, &opts)?;
+            written.push(write(format!("{stem}.png"), &png)?);
+        }
+        if !args.no_mcap {
+            let scene_mesh = if args.scene_grid == args.grid {
+                mesh.clone()
+            } else {
+                TorusMesh::new(&motion, args.scene_grid, args.scene_grid)?
+            };
+            let path = args.out.join(format!("torus{k}_scene.mcap"));
+            write_scene(&path, &scene_mesh, &hod)?;
+            written.push(path);
+        }
+        for p in written {
+            writeln!(out, "wrote {}", p.display())?;
+        }
+    }
+    Ok(())
+}
