@@ -398,3 +398,38 @@ fn heyoka_peer_rows_round_trip() {
         assert_eq!(a["steps"], b["steps"], "same Jorba–Zou steps");
     }
 }
+
+#[test]
+fn csv_rows_carry_the_json_errors_at_full_precision() {
+    let args = [
+        "--methods",
+        "dop853,taylor-f64",
+        "--tolerances",
+        "1e-7,1e-9",
+    ];
+    let doc = bench_json(&args);
+    let mut csv_args = args.to_vec();
+    csv_args.extend_from_slice(&["--format", "csv"]);
+    let out = bench(&csv_args);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[0],
+        "method,tolerance,max error,seconds,steps,rhs evals"
+    );
+    assert_eq!(lines.len(), 5);
+    for (line, row) in lines[1..].iter().zip(rows(&doc)) {
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!(f[0], row["method"].as_str().unwrap());
+        assert_eq!(
+            f[1].parse::<f64>().unwrap(),
+            row["tolerance"].as_f64().unwrap()
+        );
+        assert_eq!(
+            f[2].parse::<f64>().unwrap(),
+            row["max_error"].as_f64().unwrap()
+        );
+        assert_eq!(f[4].parse::<u64>().unwrap(), row["steps"].as_u64().unwrap());
+    }
+}

@@ -284,14 +284,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 rows: &plain,
             },
         )?,
-        Format::Csv => output::write_csv(out, &table(&rows))?,
+        Format::Csv => output::write_csv(out, &table(&rows, true))?,
         Format::Table => {
             writeln!(
                 out,
                 "a = {}, b = {}, m = {}, h = {}, torus {}, T = {}, {} samples; time: median of {} runs",
                 case.a, case.b, case.m, case.h, case.torus, case.t_end, case.samples, args.repeats
             )?;
-            output::write_table(out, &table(&rows))?;
+            output::write_table(out, &table(&rows, false))?;
             if let Some(path) = &args.svg {
                 writeln!(out, "\nwork-precision diagram: {}", path.display())?;
             }
@@ -308,7 +308,8 @@ fn label_of(method: MethodName, mp_digits: u32) -> String {
     }
 }
 
-fn table(rows: &[Labelled]) -> Tabular {
+/// The rows as a table: rounded for reading, or at full precision (`exact`, for CSV).
+fn table(rows: &[Labelled], exact: bool) -> Tabular {
     let mut t = Tabular::new([
         "method",
         "tolerance",
@@ -319,11 +320,22 @@ fn table(rows: &[Labelled]) -> Tabular {
     ]);
     for l in rows {
         let r = &l.row;
+        let num = |x: f64, digits: usize| {
+            if exact {
+                Cell::Num(x)
+            } else {
+                Cell::Text(format!("{x:.digits$e}"))
+            }
+        };
         t.push(vec![
             Cell::Text(l.label.clone()),
-            Cell::Text(format!("{:e}", r.tolerance)),
-            Cell::Text(format!("{:.2e}", r.max_error)),
-            Cell::Text(format!("{:.3e}", r.integration_seconds)),
+            if exact {
+                Cell::Num(r.tolerance)
+            } else {
+                Cell::Text(format!("{:e}", r.tolerance))
+            },
+            num(r.max_error, 2),
+            num(r.integration_seconds, 3),
             Cell::Int(r.steps),
             Cell::Int(r.rhs_evals),
         ]);
