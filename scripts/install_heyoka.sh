@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Install heyoka (Taylor integrator in C++/LLVM with Python bindings) into .venv-heyoka for the
-# peer comparison scripts/peer_heyoka.py (rows for `rsts bench --peer`, docs/benchmarks.md). Needs python3 (3.11 here: PyPI has manylinux wheels of
-# heyoka for it, with real128 and MPFR support) and the venv module. Idempotent.
+# peer comparison scripts/peer_heyoka.py (rows for `rsts bench --peer`, docs/benchmarks.md).
+# Needs python3 (3.11 here: PyPI has manylinux wheels of heyoka for it, with real128 and MPFR
+# support) and the venv module. Idempotent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VENV=.venv-heyoka
