@@ -14,10 +14,14 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use commands::{bench, compare, diagram, explicit, inspect, integrate, surfaces, table1, table2};
+use commands::{
+    bench, compare, diagram, explicit, inspect, integrate, surfaces, table1, table2, validate,
+};
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
 const EXIT_ERROR: u8 = 2;
+/// Exit code of `rsts validate` when a run missed its thresholds or regressed.
+const EXIT_FAILED: u8 = 1;
 /// Exit code of `rsts inspect` when only part of a damaged file could be read.
 const EXIT_RECOVERED: u8 = 3;
 /// Exit code of a run stopped by Ctrl-C (128 + SIGINT).
@@ -62,6 +66,9 @@ enum Command {
     /// Work-precision benchmark against the closed form: error, time, steps per method and tolerance.
     #[command(after_help = bench::EXAMPLES)]
     Bench(bench::Args),
+    /// Run a validation suite (every camera, the hard cases) in parallel: report, plots, baseline, shards.
+    #[command(after_help = validate::EXAMPLES)]
+    Validate(validate::Args),
     /// Bearing surfaces of one integral manifold: PLY meshes, shaded PNG pictures, MCAP scene.
     #[command(after_help = surfaces::EXAMPLES)]
     Surfaces(surfaces::Args),
@@ -82,6 +89,7 @@ impl Command {
             Command::Compare(args) => compare::run(args, out),
             Command::Inspect(args) => inspect::run(args, out),
             Command::Bench(args) => bench::run(args, out),
+            Command::Validate(args) => validate::run(args, out),
             Command::Surfaces(args) => surfaces::run(args, out),
             Command::Table1(args) => table1::run(args, out),
             Command::Table2(args) => table2::run(args, out),
@@ -120,6 +128,8 @@ fn main() -> ExitCode {
                 ExitCode::from(EXIT_RECOVERED)
             } else if e.downcast_ref::<compare::Interrupted>().is_some() {
                 ExitCode::from(EXIT_INTERRUPTED)
+            } else if e.downcast_ref::<validate::Failed>().is_some() {
+                ExitCode::from(EXIT_FAILED)
             } else {
                 ExitCode::from(EXIT_ERROR)
             }

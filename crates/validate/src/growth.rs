@@ -1,10 +1,12 @@
 //! How an error grows along a run: least-squares fits of log(error) against log(t) (polynomial,
-//! error ≈ C t^p) and against t (exponential, error ≈ C e^{λt}); the fit with the smaller residual
-//! wins.
+//! error ≈ C t^p) and against t (exponential, error ≈ C e^{λt}); exponential when that fit is
+//! clearly better ([`EXPONENTIAL_RMS_RATIO`]) and implies a large growth
+//! ([`EXPONENTIAL_MIN_GROWTH`]), else polynomial.
 //!
-//! Fitted samples: t ≥ T/20 (the start is round-off noise), errors above 1e-300, and only up to
-//! the first sample where the error exceeds [`SATURATION`] (an error of order one no longer grows:
-//! the state is bounded).
+//! What is fitted is the running maximum of the error (its envelope: errors of a motion on a torus
+//! oscillate). Fitted samples: those before the first error above [`SATURATION`] (an
+//! error of order one no longer grows: the state is bounded), from a twentieth of their span on
+//! (the start is round-off noise), with errors above 1e-300.
 
 use serde::{Deserialize, Serialize};
 
@@ -12,6 +14,13 @@ use serde::{Deserialize, Serialize};
 pub const SATURATION: f64 = 1e-2;
 /// Fewer fitted samples than this: no fit.
 pub const MIN_POINTS: usize = 8;
+
+/// The exponential model is chosen only when its rms residual is below this fraction of the
+/// polynomial fit's…
+pub const EXPONENTIAL_RMS_RATIO: f64 = 0.5;
+/// …and e^{λ·span} over the fitted span is at least this: over a short window a slow exponential
+/// and a power law cannot be told apart, and such growth is reported as polynomial.
+pub const EXPONENTIAL_MIN_GROWTH: f64 = 1e3;
 
 /// The better of the two fits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -70,19 +79,25 @@ fn line_fit(x: &[f64], y: &[f64]) -> Option<(f64, f64)> {
 
 /// Fit the growth of `errors` along `times` (same length).
 pub fn fit(times: &[f64], errors: &[f64]) -> Option<Growth> {
-    let t_end = times.iter().copied().fold(0.0, f64::max);
+    // The samples before saturation, then the envelope from a twentieth of that span on.
+    let n = times
+        .iter()
+        .zip(errors)
+        .position(|(_, e)| !e.is_finite() || *e > SATURATION)
+        .unwrap_or(times.len().min(errors.len()));
+    let t_end = times[..n].iter().copied().fold(0.0, f64::max);
     if t_end <= 0.0 {
         return None;
     }
     let mut t = Vec::new();
     let mut y = Vec::new();
-    for (&ti, &ei) in times.iter().zip(errors) {
-        if !ei.is_finite() || ei > SATURATION {
-            break;
-        }
-        if ti >= t_end / 20.0 && ti > 0.0 && ei > 1e-300 {
+    // The running maximum: the envelope of an oscillating error.
+    let mut envelope = 0.0f64;
+    for (&ti, &ei) in times[..n].iter().zip(&errors[..n]) {
+        envelope = envelope.max(ei);
+        if ti >= t_end / 20.0 && ti > 0.0 && envelope > 1e-300 {
             t.push(ti);
-            y.push(ei.ln());
+            y.push(envelope.ln());
         }
     }
     if t.len() < MIN_POINTS {
@@ -92,7 +107,9 @@ pub fn fit(times: &[f64], errors: &[f64]) -> Option<Growth> {
     let (p, rms_p) = line_fit(&lt, &y)?;
     let (lambda, rms_e) = line_fit(&t, &y)?;
     Some(Growth {
-        model: if rms_e < rms_p {
+        model: if rms_e < EXPONENTIAL_RMS_RATIO * rms_p
+            && lambda * (t[t.len() - 1] - t[0]) >= EXPONENTIAL_MIN_GROWTH.ln()
+        {
             Model::Exponential
         } else {
             Model::Polynomial

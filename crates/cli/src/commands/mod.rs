@@ -9,3 +9,4 @@ pub mod integrate;
 pub mod surfaces;
 pub mod table1;
 pub mod table2;
+pub mod validate;

@@ -1,0 +1,182 @@
+//! `rsts validate`: run a validation suite (or one shard of it) in parallel, write report.json,
+//! report.md and SVG plots, compare with a baseline; `rsts validate merge` joins shard reports.
+//!
+//! Exit codes: 0 all runs pass (and no regression), 1 some run missed its thresholds, could not be
+//! done, or regressed against the baseline (each named on stderr), 2 bad input.
+
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use anyhow::bail;
+use clap::{Args as ClapArgs, Subcommand};
+
+use rsts_validate::{merge_dirs, validate, Options, Report, RunResult, Shard, Status, Suite};
+
+/// Shown at the end of `rsts validate --help`.
+pub const EXAMPLES: &str = "\
+Examples:
+  # the CI suite on all cores
+  rsts validate --suite validation/quick.toml --report target/validation-quick
+
+  # the nightly sweep, compared with last night's report
+  rsts validate --suite validation/nightly.toml --report out/nightly --baseline out/nightly-previous/report.json
+
+  # shard 2 of 8 of the sweep (one machine of a job array), then the merge
+  rsts validate --suite validation/nightly.toml --report out/shard-2 --shard 2/8 --jobs 2
+  rsts validate merge out/shard-1 out/shard-2 out/shard-3 out/shard-4 out/shard-5 out/shard-6 out/shard-7 out/shard-8 --report out/nightly
+
+Exit code 1 names every run that missed a threshold or regressed (error grown 10x, time grown 2x);
+exit code 2 is bad input (suite, shard, missing baseline). See docs/validation.md.";
+
+/// Options of `rsts validate`.
+#[derive(Debug, Clone, ClapArgs)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct Args {
+    #[command(subcommand)]
+    pub merge: Option<MergeCommand>,
+    /// The suite file (TOML)
+    #[arg(long, value_name = "FILE")]
+    pub suite: Option<PathBuf>,
+    /// Directory for report.json, report.md and plots/
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
+    /// A previous report.json (or its directory) to check for regressions
+    #[arg(long, value_name = "OLD/report.json")]
+    pub baseline: Option<PathBuf>,
+    /// Run only shard K of N (1 <= K <= N): the runs whose index in the id-sorted list is K-1 mod N
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Threads (default: one per core)
+    #[arg(long, value_name = "J")]
+    pub jobs: Option<usize>,
+    /// Only list the run ids (of the shard, if given) and exit
+    #[arg(long)]
+    pub list: bool,
+}
+
+#[derive(Debug, Clone, Subcommand)]
+pub enum MergeCommand {
+    /// Join the reports of the shards of one suite into the report of the whole suite
+    Merge(MergeArgs),
+}
+
+/// Options of `rsts validate merge`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct MergeArgs {
+    /// Report directories (or report.json files) of the shards
+    #[arg(value_name = "DIR", required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Directory for the merged report.json, report.md and plots/
+    #[arg(long, value_name = "DIR")]
+    pub report: PathBuf,
+    /// A previous report.json (or its directory) to check for regressions
+    #[arg(long, value_name = "OLD/report.json")]
+    pub baseline: Option<PathBuf>,
+}
+
+/// Some run failed or regressed (exit code 1).
+#[derive(Debug)]
+pub struct Failed(pub String);
+
+impl std::fmt::Display for Failed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+impl std::error::Error for Failed {}
+
+fn finish(report: &Report, dir: &std::path::Path, out: &mut dyn Write) -> anyhow::Result<()> {
+    let s = &report.summary;
+    writeln!(
+        out,
+        "{}: {} runs{}: {} passed, {} failed, {} errors{}; {:.1} s",
+        report.suite,
+        s.runs,
+        report
+            .shard
+            .map(|sh| format!(" (shard {sh} of {} runs)", report.total_runs))
+            .unwrap_or_default(),
+        s.passed,
+        s.failed,
+        s.errors,
+        report
+            .baseline
+            .as_ref()
+            .map(|b| format!(
+                "; {} regressions against the baseline ({} runs compared)",
+                b.regressions.len(),
+                b.runs_compared
+            ))
+            .unwrap_or_default(),
+        report.timing.wall_seconds
+    )?;
+    writeln!(
+        out,
+        "report: {}, {} and {}",
+        dir.join("report.json").display(),
+        dir.join("report.md").display(),
+        dir.join("plots").display()
+    )?;
+    let problems = report.problems();
+    if problems.is_empty() {
+        return Ok(());
+    }
+    out.flush()?;
+    Err(Failed(format!(
+        "{} problem(s):\n  {}",
+        problems.len(),
+        problems.join("\n  ")
+    ))
+    .into())
+}
+
+pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
+    if let Some(MergeCommand::Merge(m)) = args.merge {
+        let report = merge_dirs(&m.dirs, &m.report, m.baseline.as_deref())?;
+        return finish(&report, &m.report, out);
+    }
+    let Some(suite) = args.suite else {
+        bail!("--suite FILE is required (or `rsts validate merge DIR... --report DIR`)");
+    };
+    let shard: Option<Shard> = args.shard.as_deref().map(str::parse).transpose()?;
+    if args.list {
+        let s = Suite::load(&suite)?;
+        let runs = match shard {
+            Some(sh) => sh.select(&s.runs),
+            None => s.runs,
+        };
+        for r in runs {
+            writeln!(out, "{}\t{}", r.id, r.camera)?;
+        }
+        return Ok(());
+    }
+    let Some(report_dir) = args.report else {
+        bail!("--report DIR is required");
+    };
+    if args.jobs == Some(0) {
+        bail!("--jobs must be at least 1");
+    }
+    let opts = Options {
+        suite,
+        report_dir: report_dir.clone(),
+        baseline: args.baseline,
+        shard,
+        jobs: args.jobs.unwrap_or(0),
+    };
+    let done = AtomicUsize::new(0);
+    let tty = std::io::stderr().is_terminal();
+    let progress = |r: &RunResult| {
+        let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+        if tty || r.status != Status::Pass {
+            let mark = match r.status {
+                Status::Pass => "ok",
+                Status::Fail => "FAIL",
+                Status::Error => "ERROR",
+            };
+            eprintln!("[{k}] {mark} {} ({:.2} s)", r.id, r.timing.wall_seconds);
+        }
+    };
+    let report = validate(&opts, &progress)?;
+    finish(&report, &report_dir, out)
+}
