@@ -462,3 +462,125 @@ pub fn merge(parts: &[Report]) -> Result<Report, ValidateError> {
     }
     Ok(merged)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::run::{Figures, GrowthFits, Series, Timing};
+    use crate::suite::Thresholds;
+
+    fn result(id: &str, err: f64, seconds: f64) -> RunResult {
+        RunResult {
+            id: id.into(),
+            case: "c".into(),
+            camera: "I+".into(),
+            a: 1.0,
+            b: 0.5,
+            m: 0.3,
+            h: -0.375,
+            torus: 0,
+            t_end: 1.0,
+            samples: 2,
+            method: "dop853".into(),
+            rtol: Some(1e-12),
+            digits: None,
+            thresholds: Thresholds::default(),
+            status: Status::Pass,
+            failures: vec![],
+            error: None,
+            figures: Some(Figures {
+                max_state_error: err,
+                ..Figures::default()
+            }),
+            closed_form: None,
+            growth: GrowthFits::default(),
+            series: Series::default(),
+            timing: Timing {
+                integration_seconds: seconds,
+                wall_seconds: seconds,
+            },
+        }
+    }
+
+    fn report(runs: Vec<RunResult>) -> Report {
+        Report::new("s", "d", runs.len(), None, runs, 1.0)
+    }
+
+    #[test]
+    fn regressions_are_errors_grown_10x_and_times_grown_2x_above_the_floors() {
+        let old = report(vec![
+            result("a", 1e-10, 0.1),   // error ×10 exactly: not a regression
+            result("b", 1e-10, 0.1),   // error ×11: regression
+            result("c", 1e-310, 0.1),  // below the error floor: ignored
+            result("d", 1e-10, 0.004), // faster than 5 ms: time ignored
+            result("e", 1e-10, 0.01),  // time ×2.5: regression
+            result("f", 1e-10, 0.1),   // NaN now: regression
+        ]);
+        let mut now = report(vec![
+            result("a", 1e-9, 0.1),
+            result("b", 1.1e-9, 0.1),
+            result("c", 1.0, 0.1),
+            result("d", 1e-10, 1.0),
+            result("e", 1e-10, 0.025),
+            result("f", f64::NAN, 0.1),
+            result("g", 1.0, 1.0),
+        ]);
+        now.compare_with(&old);
+        let b = now.baseline.as_ref().unwrap();
+        assert_eq!((b.runs_compared, b.new_runs), (6, 1));
+        let found: Vec<(&str, &str, &str)> = b
+            .regressions
+            .iter()
+            .map(|r| (r.id.as_str(), r.kind.as_str(), r.figure.as_str()))
+            .collect();
+        assert_eq!(
+            found,
+            [
+                ("b", "error", "max_state_error"),
+                ("e", "time", "integration_seconds"),
+                ("f", "error", "max_state_error"),
+            ]
+        );
+        // Time regressions are not part of the report's identity; error regressions are.
+        let v = now.without_timings();
+        let kinds: Vec<&str> = v["baseline"]["regressions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["kind"].as_str().unwrap())
+            .collect();
+        assert_eq!(kinds, ["error", "error"]);
+        assert!(v["runs"][0].get("timing").is_none() && v.get("timing").is_none());
+        assert_eq!(now.problems().len(), 3);
+    }
+
+    #[test]
+    fn merge_rejects_mixed_suites_duplicates_and_gaps() {
+        let part = |k: usize, ids: &[&str], digest: &str| {
+            let mut r = Report::new(
+                "s",
+                digest,
+                3,
+                Some(Shard { k, n: 2 }),
+                ids.iter().map(|i| result(i, 1e-9, 0.1)).collect(),
+                1.0,
+            );
+            r.shard = Some(Shard { k, n: 2 });
+            r
+        };
+        let ok = merge(&[part(2, &["b"], "d"), part(1, &["a", "c"], "d")]).unwrap();
+        let ids: Vec<&str> = ok.runs.iter().map(|r| r.id.as_str()).collect();
+        assert_eq!(
+            (ids, ok.shard, ok.summary.runs),
+            (vec!["a", "b", "c"], None, 3)
+        );
+        let err = |parts: &[Report]| merge(parts).unwrap_err().to_string();
+        assert!(
+            err(&[part(1, &["a", "c"], "d"), part(2, &["b"], "x")]).contains("different suites")
+        );
+        assert!(err(&[part(1, &["a", "c"], "d"), part(1, &["b"], "d")]).contains("given twice"));
+        assert!(err(&[part(1, &["a", "c"], "d")]).contains("missing shard(s) 2/2"));
+        assert!(err(&[part(1, &["a", "c"], "d"), part(2, &["c"], "d")]).contains("two reports"));
+        assert!(err(&[]).contains("no reports"));
+    }
+}

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# The nightly validation: run validation/nightly.toml (every camera on every torus, five integrators,
+# the hard cases, T = 1e4 runs) against the previous night's report as the baseline.
+#
+# Reports go to $RSTS_NIGHTLY_DIR (default out/nightly)/<UTC time>/; out/nightly/baseline is the
+# report the next night is compared with: this night's report when it passed, else the previous
+# baseline stays (a regression keeps being reported until it is fixed, not accepted by rerunning).
+# Extra arguments go to `rsts validate`, e.g. scripts/nightly.sh --jobs 2; RSTS_NIGHTLY_SUITE picks
+# another suite file.
+# Exit code: that of `rsts validate` (0 pass, 1 a run failed or regressed, 2 bad input).
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+"$root/scripts/setup.sh"
+if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"; fi
+cd "$root"
+
+out="${RSTS_NIGHTLY_DIR:-out/nightly}"
+run="$out/$(date -u +%Y%m%dT%H%M%SZ)"
+mkdir -p "$out"
+cargo build --release -q -p rsts-cli
+
+suite="${RSTS_NIGHTLY_SUITE:-validation/nightly.toml}"
+args=(validate --suite "$suite" --report "$run")
+if [ -f "$out/baseline/report.json" ]; then
+  args+=(--baseline "$out/baseline/report.json")
+else
+  echo "no baseline yet ($out/baseline/report.json): this run becomes the first one" >&2
+fi
+
+set +e
+target/release/rsts "${args[@]}" "$@"
+code=$?
+set -e
+
+if [ "$code" -eq 0 ]; then
+  rm -rf "$out/baseline.new"
+  cp -r "$run" "$out/baseline.new"
+  rm -rf "$out/baseline"
+  mv "$out/baseline.new" "$out/baseline"
+  echo "baseline for the next run: $out/baseline (from $run)"
+elif [ "$code" -eq 1 ]; then
+  echo "runs failed or regressed: see $run/report.md; the baseline stays $out/baseline" >&2
+fi
+exit "$code"
