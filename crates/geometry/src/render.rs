@@ -4,7 +4,7 @@
 //! polyline on top (depth-tested; its hidden parts drawn faint), a small axis triad, 2 × 2
 //! supersampling, written as an 8-bit RGB PNG.
 
-use crate::mesh::{bounds, norm, vertex_normals};
+use crate::mesh::{bounds, norm, triangle_normal};
 use crate::GeometryError;
 
 /// Options of [`render_png`].
@@ -88,8 +88,10 @@ impl Camera {
             zlo = zlo.min(dot(d, toward));
             zhi = zhi.max(dot(d, toward));
         }
-        let fit = |e: f64, side: usize| if e > 0.0 { 0.44 * side as f64 / e } else { 1.0 };
-        let scale = fit(ext[0], w).min(fit(ext[1], h));
+        // Leave the bottom-left corner to the axis triad: the picture is centred a little above
+        // the middle and fills at most 84 % of the height.
+        let fit = |e: f64, side: f64| if e > 0.0 { side / e } else { 1.0 };
+        let scale = fit(ext[0], 0.44 * w as f64).min(fit(ext[1], 0.41 * h as f64));
         Self {
             right,
             up,
@@ -112,7 +114,7 @@ impl Camera {
         ];
         [
             0.5 * self.w as f64 + self.scale * dot(d, self.right),
-            0.5 * self.h as f64 - self.scale * dot(d, self.up),
+            0.45 * self.h as f64 - self.scale * dot(d, self.up),
             dot(d, self.toward) * self.scale,
         ]
     }
@@ -295,6 +297,110 @@ fn digit(r: &mut Raster, d: usize, x: f64, y: f64, px: usize, color: [f64; 3]) {
     }
 }
 
+/// Vertex normals that ignore the orientation of the triangles: the image of a torus folds, and
+/// across a fold the parametrisation reverses orientation, so oriented normals would cancel
+/// there. Each incident face normal is added with the sign that agrees with the first one.
+pub fn unoriented_normals(v: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[f64; 3]> {
+    let mut acc = vec![[0.0f64; 3]; v.len()];
+    let mut reference: Vec<Option<[f64; 3]>> = vec![None; v.len()];
+    for t in triangles {
+        let n = triangle_normal(v, *t);
+        if n == [0.0; 3] {
+            continue;
+        }
+        for &i in t {
+            let r = *reference[i as usize].get_or_insert(n);
+            let sign = if dot(n, r) < 0.0 { -1.0 } else { 1.0 };
+            for k in 0..3 {
+                acc[i as usize][k] += sign * n[k];
+            }
+        }
+    }
+    acc.into_iter()
+        .map(|n| {
+            let l = norm(n);
+            if l > 0.0 && l.is_finite() {
+                n.map(|x| x / l)
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect()
+}
+
+/// A viewing direction (azimuth, elevation in degrees) that shows a surface broadside: along its
+/// axis of least spread (principal axes of the vertex cloud), tilted 35° toward the middle axis
+/// so the depth still shows, and always from the side of positive components (a stable choice).
+pub fn auto_view(vertices: &[[f64; 3]]) -> (f64, f64) {
+    let n = vertices.len().max(1) as f64;
+    let mean: [f64; 3] = std::array::from_fn(|k| vertices.iter().map(|p| p[k]).sum::<f64>() / n);
+    let mut c = [[0.0f64; 3]; 3];
+    for p in vertices {
+        for i in 0..3 {
+            for j in 0..3 {
+                c[i][j] += (p[i] - mean[i]) * (p[j] - mean[j]) / n;
+            }
+        }
+    }
+    let (values, vectors) = jacobi_eigen(c);
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&p, &q| values[p].total_cmp(&values[q]));
+    let col = |k: usize| [vectors[0][k], vectors[1][k], vectors[2][k]];
+    let (least, middle) = (col(order[0]), col(order[1]));
+    let (s_tilt, c_tilt) = (35f64.to_radians().sin(), 35f64.to_radians().cos());
+    let mut d: [f64; 3] = std::array::from_fn(|k| c_tilt * least[k] + s_tilt * middle[k]);
+    let l = norm(d);
+    if !(l > 0.0 && l.is_finite()) {
+        return (35.0, 25.0);
+    }
+    d = d.map(|x| x / l);
+    if d[0] + d[1] + d[2] < 0.0 {
+        d = d.map(|x| -x);
+    }
+    // Keep the picture's up close to +z: limit the elevation.
+    // Between 20° and 70° of elevation (either sign): never edge-on to the horizontal plane, and
+    // the picture's up stays close to the third axis.
+    let el = d[2].clamp(-1.0, 1.0).asin().to_degrees();
+    let el = el.signum() * el.abs().clamp(20.0, 70.0);
+    let az = d[1].atan2(d[0]).to_degrees();
+    (az, el)
+}
+
+/// Eigenvalues and eigenvectors (columns) of a symmetric 3 × 3 matrix by cyclic Jacobi rotations.
+fn jacobi_eigen(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..50 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        if off < 1e-15 * (a[0][0].abs() + a[1][1].abs() + a[2][2].abs()) || off == 0.0 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
+            }
+            let (rp, rq) = (a[p], a[q]);
+            a[p] = std::array::from_fn(|k| c * rp[k] - s * rq[k]);
+            a[q] = std::array::from_fn(|k| s * rp[k] + c * rq[k]);
+            for row in v.iter_mut() {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    ([a[0][0], a[1][1], a[2][2]], v)
+}
+
 /// Render a surface (vertices, triangles) with a polyline on it to PNG bytes.
 pub fn render_png(
     vertices: &[[f64; 3]],
@@ -325,13 +431,17 @@ pub fn render_png(
     let (w, h) = (opts.width as usize * SS, opts.height as usize * SS);
     let cam = Camera::new(vertices, opts, w, h);
     let mut r = Raster::new(w, h);
-    let normals = vertex_normals(vertices, triangles);
+    let normals = unoriented_normals(vertices, triangles);
     let proj: Vec<[f64; 3]> = vertices.iter().map(|p| cam.project(*p)).collect();
     for t in triangles {
         let [i, j, k] = t.map(|x| x as usize);
+        // Align the vertex normals with the face before interpolating, so a normal never
+        // passes through zero inside a triangle.
+        let face = triangle_normal(vertices, *t);
+        let align = |n: [f64; 3]| if dot(n, face) < 0.0 { n.map(|x| -x) } else { n };
         r.triangle(
             [proj[i], proj[j], proj[k]],
-            [normals[i], normals[j], normals[k]],
+            [align(normals[i]), align(normals[j]), align(normals[k])],
             &cam,
         );
     }
@@ -345,8 +455,8 @@ pub fn render_png(
         r.line(s[0], s[1], 0.9 * SS as f64, CURVE, bias);
     }
     // Axis triad in the lower-left corner: e1 red, e2 green, e3 blue, labelled 1, 2, 3.
-    let origin = [0.12 * w as f64, 0.88 * h as f64];
-    let len = 0.08 * w.min(h) as f64;
+    let origin = [0.11 * w as f64, 0.955 * h as f64];
+    let len = 0.055 * w.min(h) as f64;
     for (axis, color) in AXES.iter().enumerate() {
         let mut e = [0.0; 3];
         e[axis] = 1.0;
@@ -361,8 +471,8 @@ pub fn render_png(
             *color,
             0.0,
         );
-        let lx = origin[0] + 1.35 * len * dot(e, cam.right) - 3.0 * SS as f64;
-        let ly = origin[1] - 1.35 * len * dot(e, cam.up) - 5.0 * SS as f64;
+        let lx = origin[0] + 1.45 * len * dot(e, cam.right) - 3.0 * SS as f64;
+        let ly = origin[1] - 1.45 * len * dot(e, cam.up) - 5.0 * SS as f64;
         digit(&mut r, axis, lx, ly, 2 * SS, *color);
     }
     // 2 × 2 box filter.
@@ -400,4 +510,32 @@ fn encode_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, GeometryError> {
         writer.write_image_data(rgb).map_err(png_err)?;
     }
     Ok(buf)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_view_looks_along_the_thin_axis() {
+        // A flat cloud in the plane z = 2x: the least-spread axis is (−2, 0, 1)/√5.
+        let pts: Vec<[f64; 3]> = (0..400)
+            .map(|i| {
+                let (u, w) = ((i % 20) as f64, (i / 20) as f64 * 0.5);
+                [u, w, 2.0 * u + 0.001 * (i as f64).sin()]
+            })
+            .collect();
+        let (az, el) = auto_view(&pts);
+        let d = [
+            el.to_radians().cos() * az.to_radians().cos(),
+            el.to_radians().cos() * az.to_radians().sin(),
+            el.to_radians().sin(),
+        ];
+        let normal = [-2.0 / 5f64.sqrt(), 0.0, 1.0 / 5f64.sqrt()];
+        let cos = dot(d, normal).abs();
+        assert!(
+            (cos - 35f64.to_radians().cos()).abs() < 0.02,
+            "{az} {el} {cos}"
+        );
+    }
 }

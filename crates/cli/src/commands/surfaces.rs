@@ -13,7 +13,7 @@ use clap::Args as ClapArgs;
 use rsts_closed_form::{ExplicitMotion, TorusChoice};
 use rsts_geometry::mesh::{hodograph, Surface, TorusMesh, MAX_GRID, MIN_GRID};
 use rsts_geometry::ply::ply_text;
-use rsts_geometry::render::{render_png, RenderOptions};
+use rsts_geometry::render::{auto_view, render_png, RenderOptions};
 use rsts_geometry::scene::write_scene;
 
 use crate::args::{count, finite_f64};
@@ -60,12 +60,13 @@ pub struct Args {
     /// Picture size in px (square)
     #[arg(long, value_name = "PX", default_value = "480")]
     pub size: u32,
-    /// Viewing azimuth in degrees (about the third axis, from the first)
-    #[arg(long, default_value = "35", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub azimuth: f64,
-    /// Viewing elevation in degrees
-    #[arg(long, default_value = "25", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub elevation: f64,
+    /// Viewing azimuth in degrees (about the third axis, from the first); default: each surface
+    /// seen broadside (along its axis of least spread, tilted 35°)
+    #[arg(long, value_parser = finite_f64, allow_hyphen_values = true)]
+    pub azimuth: Option<f64>,
+    /// Viewing elevation in degrees (default as for --azimuth; 25 if only --azimuth is given)
+    #[arg(long, value_parser = finite_f64, allow_hyphen_values = true)]
+    pub elevation: Option<f64>,
     /// Length of the hodograph, in units of the longer of the two angle periods
     #[arg(long, value_name = "P", default_value = "3", value_parser = finite_f64)]
     pub periods: f64,
@@ -75,6 +76,10 @@ pub struct Args {
     /// Initial angles ψ1,ψ2 of the hodograph on the torus
     #[arg(long, value_name = "PSI1,PSI2", default_value = "0.3,1.1", value_parser = pair, allow_hyphen_values = true)]
     pub phases: (f64, f64),
+    /// Pictures only: scale each coordinate to the same range before drawing (for needle-like
+    /// surfaces, e.g. camera I-; the meshes and the scene keep the true coordinates)
+    #[arg(long)]
+    pub normalize_axes: bool,
     /// Do not write the PLY meshes
     #[arg(long)]
     pub no_ply: bool,
@@ -89,6 +94,24 @@ fn pair(s: &str) -> Result<(f64, f64), String> {
         return Err(format!("expected two numbers PSI1,PSI2, got '{s}'"));
     };
     Ok((finite_f64(p)?, finite_f64(q)?))
+}
+
+/// The vertices and the curve with each coordinate divided by the surface's range in it.
+fn normalize_axes(verts: &[[f64; 3]], curve: &[[f64; 3]]) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    let (lo, hi) = rsts_geometry::mesh::bounds(verts);
+    let range: [f64; 3] = std::array::from_fn(|k| {
+        let r = hi[k] - lo[k];
+        if r > 0.0 && r.is_finite() {
+            r
+        } else {
+            1.0
+        }
+    });
+    let scale = |p: &[f64; 3]| -> [f64; 3] { std::array::from_fn(|k| p[k] / range[k]) };
+    (
+        verts.iter().map(scale).collect(),
+        curve.iter().map(scale).collect(),
+    )
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
@@ -121,11 +144,17 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("--out: cannot create {}", args.out.display()))?;
-    let opts = RenderOptions {
-        width: args.size,
-        height: args.size,
-        azimuth_deg: args.azimuth,
-        elevation_deg: args.elevation,
+    let view = |verts: &[[f64; 3]]| -> RenderOptions {
+        let (az, el) = match (args.azimuth, args.elevation) {
+            (None, None) => auto_view(verts),
+            (az, el) => (az.unwrap_or(35.0), el.unwrap_or(25.0)),
+        };
+        RenderOptions {
+            width: args.size,
+            height: args.size,
+            azimuth_deg: az,
+            elevation_deg: el,
+        }
     };
     writeln!(
         out,
@@ -165,7 +194,12 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 let text = ply_text(verts, &mesh.triangles, Some(&mesh.angles), &comment);
                 written.push(write(format!("{stem}.ply"), text.as_bytes())?);
             }
-            let png = render_png(verts, &mesh.triangles, curve, &opts)?;
+            let png = if args.normalize_axes {
+                let (v, c) = normalize_axes(verts, curve);
+                render_png(&v, &mesh.triangles, &c, &view(&v))?
+            } else {
+                render_png(verts, &mesh.triangles, curve, &view(verts))?
+            };
             written.push(write(format!("{stem}.png"), &png)?);
         }
         if !args.no_mcap {
