@@ -195,3 +195,48 @@ fn bad_input_is_an_error_not_a_panic() {
     fails_cleanly(&["table1", "--b", "-1"]);
     fails_cleanly(&["table2", "--a", "inf"]);
 }
+
+#[test]
+fn table2_planes_are_symmetries_of_the_meshes_and_the_others_are_not() {
+    use rsts_geometry::classify::reflection_score;
+    use rsts_geometry::mesh::{all_tori, local_spacing};
+    use rsts_geometry::nearest::KdTree;
+
+    let v = json(&["table2", "--format", "json"]);
+    for r in v["cameras"].as_array().unwrap() {
+        let (m, h) = (r["m"].as_f64().unwrap(), r["h"].as_f64().unwrap());
+        let listed: Vec<usize> = r["symmetry_planes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| match p.as_str().unwrap() {
+                "omega1" => 0,
+                "omega2" => 1,
+                _ => 2,
+            })
+            .collect();
+        // A finer mesh than table2 uses (64): the verdict must not depend on the grid.
+        for mesh in all_tori(1.0, 0.5, m, h, 80, 72).unwrap() {
+            let spacing = local_spacing(&mesh.omega, &mesh.triangles);
+            let tree = KdTree::new(&mesh.omega);
+            for axis in 0..3 {
+                let score = reflection_score(&mesh.omega, &spacing, &tree, axis);
+                if listed.contains(&axis) {
+                    assert!(
+                        score < 0.1,
+                        "{} torus {} axis {axis}: {score}",
+                        r["camera"],
+                        mesh.torus
+                    );
+                } else {
+                    assert!(
+                        score > 3.0,
+                        "{} torus {} axis {axis}: {score}",
+                        r["camera"],
+                        mesh.torus
+                    );
+                }
+            }
+        }
+    }
+}
