@@ -13,7 +13,7 @@ use clap::Args as ClapArgs;
 use rsts_closed_form::{ExplicitMotion, TorusChoice};
 use rsts_geometry::mesh::{hodograph, Surface, TorusMesh, MAX_GRID, MIN_GRID};
 use rsts_geometry::ply::ply_text;
-use rsts_geometry::render::{auto_view, render_png, RenderOptions};
+use rsts_geometry::render::{auto_view, render_png, RenderOptions, MAX_SIDE, MIN_SIDE};
 use rsts_geometry::scene::write_scene;
 
 use crate::args::{count, finite_f64};
@@ -119,6 +119,12 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         if !(MIN_GRID..=MAX_GRID).contains(&n) {
             bail!("{name} must be in {MIN_GRID}..={MAX_GRID}, got {n}");
         }
+    }
+    if !(MIN_SIDE..=MAX_SIDE).contains(&args.size) {
+        bail!(
+            "--size must be in {MIN_SIDE}..={MAX_SIDE} px, got {}",
+            args.size
+        );
     }
     if !(args.periods > 0.0 && args.periods <= 1e4) {
         bail!("--periods must be in (0, 1e4], got {}", args.periods);
