@@ -160,6 +160,50 @@ impl GridArgs {
     }
 }
 
+/// The point (m, h) of the invariant manifold N, the torus and the phases of a motion (used by
+/// `compare` and `bench`; the time grid has its own options there).
+#[derive(Debug, Clone, Args)]
+pub struct CaseArgs {
+    /// Strength a of the first field; a > b > 0
+    #[arg(long, value_name = "A", default_value = "1", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub a: f64,
+    /// Strength b of the second field
+    #[arg(long, value_name = "B", default_value = "0.5", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub b: f64,
+    /// Value m of the partial integral of N
+    #[arg(long, value_name = "M", default_value = "0.3", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub m: f64,
+    /// Energy h
+    #[arg(long, value_name = "H", default_value = "-0.375", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub h: f64,
+    /// Which Liouville torus (0-based)
+    #[arg(long, value_name = "K", default_value_t = 0)]
+    pub torus: usize,
+    /// Initial angle psi1 on the torus (radians)
+    #[arg(long, value_name = "X", default_value = "0", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub phase1: f64,
+    /// Initial angle psi2 on the torus (radians)
+    #[arg(long, value_name = "Y", default_value = "0", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub phase2: f64,
+}
+
+impl CaseArgs {
+    /// The harness case on the grid of `samples` times over [0, `t_end`].
+    pub fn case(&self, t_end: f64, samples: usize) -> rsts_harness::Case {
+        rsts_harness::Case {
+            a: self.a,
+            b: self.b,
+            m: self.m,
+            h: self.h,
+            torus: self.torus,
+            phase1: self.phase1,
+            phase2: self.phase2,
+            t_end,
+            samples,
+        }
+    }
+}
+
 /// Integration method and its settings.
 #[derive(Debug, Clone, Args)]
 pub struct MethodArgs {

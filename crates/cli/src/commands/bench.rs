@@ -20,7 +20,7 @@ use rsts_dynamics::scalar::{bits_for_digits, digits_for_bits};
 use rsts_harness::{measure_against, reference_bits, BenchRow, Case, Reference};
 use rsts_plots::{Chart, Scale, Series, Style};
 
-use crate::args::{count, finite_f64, MethodParser, MAX_SAMPLES};
+use crate::args::{count, finite_f64, CaseArgs, MethodParser, MAX_SAMPLES};
 use crate::output::{self, Cell, Format, Tabular};
 
 /// Shown at the end of `rsts bench --help`.
@@ -51,27 +51,8 @@ default: ceil(-log10(smallest tolerance)) + 10 digits. The closed-form reference
 /// Options of `rsts bench`.
 #[derive(Debug, Clone, ClapArgs)]
 pub struct Args {
-    /// Strength a of the first field; a > b > 0
-    #[arg(long, value_name = "A", default_value = "1", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub a: f64,
-    /// Strength b of the second field
-    #[arg(long, value_name = "B", default_value = "0.5", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub b: f64,
-    /// Value m of the partial integral of N
-    #[arg(long, value_name = "M", default_value = "0.3", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub m: f64,
-    /// Energy h
-    #[arg(long, value_name = "H", default_value = "-0.375", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub h: f64,
-    /// Which Liouville torus (0-based)
-    #[arg(long, value_name = "K", default_value_t = 0)]
-    pub torus: usize,
-    /// Initial angle psi1 on the torus (radians)
-    #[arg(long, value_name = "X", default_value = "0", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub phase1: f64,
-    /// Initial angle psi2 on the torus (radians)
-    #[arg(long, value_name = "Y", default_value = "0", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub phase2: f64,
+    #[command(flatten)]
+    pub case: CaseArgs,
     /// End time T > 0
     #[arg(long, value_name = "T", default_value = "100", value_parser = finite_f64, allow_hyphen_values = true)]
     pub t_end: f64,
@@ -110,17 +91,7 @@ pub struct Args {
 
 impl Args {
     fn case(&self) -> Case {
-        Case {
-            a: self.a,
-            b: self.b,
-            m: self.m,
-            h: self.h,
-            torus: self.torus,
-            phase1: self.phase1,
-            phase2: self.phase2,
-            t_end: self.t_end,
-            samples: self.samples,
-        }
+        self.case.case(self.t_end, self.samples)
     }
 }
 

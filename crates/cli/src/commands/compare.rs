@@ -15,7 +15,7 @@ use serde::Serialize;
 use rsts_harness::{compare, Case, Observer, Report, SampleRecord};
 use rsts_mcap::{BodyState, ErrorSample, Metadata, Sample, TrajectoryLog};
 
-use crate::args::{count, finite_f64, MethodArgs, MAX_SAMPLES};
+use crate::args::{count, finite_f64, CaseArgs, MethodArgs, MAX_SAMPLES};
 use crate::output::{self, Format};
 
 /// Shown at the end of `rsts compare --help`.
@@ -36,27 +36,8 @@ Ctrl-C stops the run after the current piece and still leaves a complete, readab
 /// Options of `rsts compare`.
 #[derive(Debug, Clone, ClapArgs)]
 pub struct Args {
-    /// Strength a of the first field; a > b > 0
-    #[arg(long, value_name = "A", default_value = "1", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub a: f64,
-    /// Strength b of the second field
-    #[arg(long, value_name = "B", default_value = "0.5", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub b: f64,
-    /// Value m of the partial integral of N
-    #[arg(long, value_name = "M", default_value = "0.3", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub m: f64,
-    /// Energy h
-    #[arg(long, value_name = "H", default_value = "-0.375", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub h: f64,
-    /// Which Liouville torus (0-based)
-    #[arg(long, value_name = "K", default_value_t = 0)]
-    pub torus: usize,
-    /// Initial angle psi1 on the torus (radians)
-    #[arg(long, value_name = "X", default_value = "0", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub phase1: f64,
-    /// Initial angle psi2 on the torus (radians)
-    #[arg(long, value_name = "Y", default_value = "0", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub phase2: f64,
+    #[command(flatten)]
+    pub case: CaseArgs,
     /// End time T >= 0
     #[arg(long, value_name = "T", default_value = "100", value_parser = finite_f64, allow_hyphen_values = true)]
     pub t_end: f64,
@@ -78,17 +59,7 @@ pub struct Args {
 
 impl Args {
     fn case(&self) -> Case {
-        Case {
-            a: self.a,
-            b: self.b,
-            m: self.m,
-            h: self.h,
-            torus: self.torus,
-            phase1: self.phase1,
-            phase2: self.phase2,
-            t_end: self.t_end,
-            samples: self.samples,
-        }
+        self.case.case(self.t_end, self.samples)
     }
 }
 
@@ -277,7 +248,7 @@ fn write_table(out: &mut dyn Write, args: &Args, r: &Report) -> anyhow::Result<(
                 "camera",
                 format!(
                     "{} (a = {}, b = {}, m = {}, h = {}, torus {})",
-                    r.camera, args.a, args.b, args.m, args.h, args.torus
+                    r.camera, args.case.a, args.case.b, args.case.m, args.case.h, args.case.torus
                 ),
             ),
             (
