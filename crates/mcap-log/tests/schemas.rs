@@ -112,11 +112,14 @@ fn conforms(msg: &Value, schema: &Value, path: &str) {
 #[test]
 fn schemas_are_in_the_supported_subset() {
     for (name, text) in [
-        (schemas::FRAME_TRANSFORM_NAME, schemas::FRAME_TRANSFORM),
-        (schemas::SCENE_UPDATE_NAME, schemas::SCENE_UPDATE),
-        (schemas::BODY_STATE_NAME, schemas::BODY_STATE),
-        (schemas::ERRORS_NAME, schemas::ERRORS),
-        (schemas::METADATA_NAME, schemas::METADATA),
+        (
+            schemas::FRAME_TRANSFORM_NAME,
+            schemas::FRAME_TRANSFORM.as_str(),
+        ),
+        (schemas::SCENE_UPDATE_NAME, schemas::SCENE_UPDATE.as_str()),
+        (schemas::BODY_STATE_NAME, schemas::BODY_STATE.as_str()),
+        (schemas::ERRORS_NAME, schemas::ERRORS.as_str()),
+        (schemas::METADATA_NAME, schemas::METADATA.as_str()),
     ] {
         let v: Value = serde_json::from_str(text).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(v["title"], name);
@@ -124,7 +127,7 @@ fn schemas_are_in_the_supported_subset() {
         check_supported(&v, name);
     }
     // The Foxglove schemas have the fields Foxglove's 3D panel reads.
-    let su: Value = serde_json::from_str(schemas::SCENE_UPDATE).unwrap();
+    let su: Value = serde_json::from_str(&schemas::SCENE_UPDATE).unwrap();
     let entity = &su["properties"]["entities"]["items"]["properties"];
     for f in [
         "timestamp",
@@ -150,7 +153,7 @@ fn schemas_are_in_the_supported_subset() {
     ] {
         assert!(line.get(f).is_some(), "LinePrimitive.{f}");
     }
-    let tf: Value = serde_json::from_str(schemas::FRAME_TRANSFORM).unwrap();
+    let tf: Value = serde_json::from_str(&schemas::FRAME_TRANSFORM).unwrap();
     for f in [
         "timestamp",
         "parent_frame_id",
