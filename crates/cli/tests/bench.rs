@@ -6,18 +6,8 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
-fn rsts(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rsts"))
-        .args(args)
-        .output()
-        .expect("run rsts")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rsts-bench-tests-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+mod common;
+use common::{exit_2, rsts, tmp};
 
 const QUICK: [&str; 7] = [
     "bench",
@@ -214,8 +204,7 @@ fn malformed_peer_files_are_clear_errors() {
     for (name, text, expect) in cases {
         let peer = peer_file(name, text);
         let out = bench(&["--tolerances", "1e-6", "--peer", &peer]);
-        assert_eq!(out.status.code(), Some(2), "{name}");
-        let err = String::from_utf8_lossy(&out.stderr);
+        let err = exit_2(&out, name);
         assert!(
             err.starts_with("error: --peer") && err.contains(expect),
             "{name}: {err}"
@@ -343,8 +332,7 @@ fn bad_input_is_rejected_with_exit_2() {
         &["--methods", "taylor-mp", "--digits", "5"],
     ] {
         let out = bench(args);
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        let err = String::from_utf8_lossy(&out.stderr);
+        let err = exit_2(&out, args);
         assert!(err.contains("error"), "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }

@@ -1,24 +1,13 @@
 //! `rsts compare` and `rsts inspect` as a user runs them: the report, the MCAP file read back by
 //! `inspect`, a damaged file, and Ctrl-C leaving a readable file.
 
-use std::path::PathBuf;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use serde_json::Value;
 
-fn rsts(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rsts"))
-        .args(args)
-        .output()
-        .expect("run rsts")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rsts-cli-tests-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+mod common;
+use common::{exit_2, rsts, rsts_command, tmp};
 
 fn report(extra: &[&str]) -> Value {
     let mut args = vec![
@@ -173,13 +162,7 @@ fn ctrl_c_leaves_a_readable_file() {
 
 #[test]
 fn bad_input_is_named() {
-    let err = |args: &[&str]| {
-        let mut all = vec!["compare"];
-        all.extend_from_slice(args);
-        let out = rsts(&all);
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        String::from_utf8(out.stderr).unwrap()
-    };
+    let err = |args: &[&str]| exit_2(&rsts_command("compare", args), args);
     assert!(err(&["--m", "0", "--h", "2"]).contains("Σ"));
     assert!(err(&["--rtol", "0"]).contains("rtol"));
     assert!(err(&["--t-end", "inf"]).contains("--t-end"));

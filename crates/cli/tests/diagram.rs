@@ -1,19 +1,17 @@
 //! `rsts diagram` as a user runs it: the SVG file, a point description, and clear errors.
 
-use std::process::{Command, Output};
+use std::process::Output;
+
+mod common;
+use common::{exit_2, rsts_command, tmp};
 
 fn rsts(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rsts"))
-        .arg("diagram")
-        .args(args)
-        .output()
-        .expect("run rsts")
+    rsts_command("diagram", args)
 }
 
 #[test]
 fn svg_is_written_with_every_camera() {
-    let dir = std::env::temp_dir().join(format!("rsts-diagram-{}", std::process::id()));
-    let path = dir.join("sub/diagram.svg");
+    let path = tmp("sub/diagram.svg");
     let out = rsts(&["--a", "1", "--b", "0.5", "--svg", path.to_str().unwrap()]);
     assert!(
         out.status.success(),
@@ -43,11 +41,7 @@ fn a_point_is_described_in_json_and_table() {
 
 #[test]
 fn bad_requests_are_explained() {
-    let err = |args: &[&str]| {
-        let out = rsts(args);
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        String::from_utf8(out.stderr).unwrap()
-    };
+    let err = |args: &[&str]| exit_2(&rsts(args), args);
     assert!(err(&[]).contains("--svg FILE"));
     assert!(err(&["--m", "0", "--h", "2"]).contains("h = r²m + 2a"));
     assert!(err(&["--m", "0", "--h", "-5"]).contains("admissible"));

@@ -1,16 +1,15 @@
 //! `rsts explicit` as a user runs it: JSON shape, digits carried, agreement of f64 and
 //! high-precision output, and clear errors on bad input.
 
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
+mod common;
+use common::{exit_2, rsts_command};
+
 fn explicit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rsts"))
-        .arg("explicit")
-        .args(args)
-        .output()
-        .expect("run the rsts binary")
+    rsts_command("explicit", args)
 }
 
 fn json(args: &[&str]) -> Value {
@@ -27,9 +26,9 @@ fn json(args: &[&str]) -> Value {
 
 fn error(args: &[&str]) -> String {
     let out = explicit(args);
-    assert_eq!(out.status.code(), Some(2), "expected failure for {args:?}");
+    let err = exit_2(&out, args);
     assert!(out.stdout.is_empty());
-    String::from_utf8(out.stderr).unwrap()
+    err
 }
 
 fn num(v: &Value) -> f64 {

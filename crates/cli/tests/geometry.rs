@@ -1,23 +1,10 @@
 //! `rsts table1`, `rsts table2` and `rsts surfaces` as a user runs them: the JSON layout, the
 //! files written, and bad input (exit 2 with `error: ...`, never a panic).
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
 use serde_json::Value;
 
-fn rsts(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rsts"))
-        .args(args)
-        .output()
-        .expect("run rsts")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rsts-geometry-tests-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+mod common;
+use common::{fails, rsts, tmp};
 
 fn json(args: &[&str]) -> Value {
     let out = rsts(args);
@@ -30,9 +17,7 @@ fn json(args: &[&str]) -> Value {
 }
 
 fn fails_cleanly(args: &[&str]) -> String {
-    let out = rsts(args);
-    assert_eq!(out.status.code(), Some(2), "{args:?}");
-    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    let err = fails(args);
     assert!(err.starts_with("error:"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
     err

@@ -1,29 +1,15 @@
 //! `rsts integrate` as a user runs it: the built binary with arguments, checking exit codes,
 //! stderr messages and the JSON/CSV/table output.
 
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
-fn rsts(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rsts"))
-        .args(args)
-        .output()
-        .expect("run the rsts binary")
-}
+mod common;
+use common::{rsts, rsts_command, stderr, stdout};
 
 fn integrate(args: &[&str]) -> Output {
-    let mut all = vec!["integrate"];
-    all.extend_from_slice(args);
-    rsts(&all)
-}
-
-fn stdout(out: &Output) -> String {
-    String::from_utf8(out.stdout.clone()).expect("stdout is UTF-8")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8(out.stderr.clone()).expect("stderr is UTF-8")
+    rsts_command("integrate", args)
 }
 
 /// Run, insist on success, return stdout.

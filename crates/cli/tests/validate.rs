@@ -3,22 +3,11 @@
 //! unsharded report, and bad input exits 2 with a message.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use serde_json::Value;
 
-fn rsts(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rsts"))
-        .args(args)
-        .output()
-        .expect("run rsts")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rsts-validate-tests-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+mod common;
+use common::{rsts, stderr, tmp};
 
 fn write(name: &str, text: &str) -> PathBuf {
     let p = tmp(name);
@@ -28,10 +17,6 @@ fn write(name: &str, text: &str) -> PathBuf {
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 fn read_report(dir: &Path) -> Value {

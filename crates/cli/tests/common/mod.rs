@@ -1,0 +1,56 @@
+//! Helpers shared by the CLI integration tests. Each `tests/*.rs` file is its own crate and
+//! includes this module with `mod common;`; each uses a subset of it.
+#![allow(dead_code)]
+
+use std::fmt::Debug;
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// Runs the built `rsts` binary with `args`.
+pub fn rsts(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rsts"))
+        .args(args)
+        .output()
+        .expect("run the rsts binary")
+}
+
+/// Runs `rsts <command> args…`.
+pub fn rsts_command(command: &str, args: &[&str]) -> Output {
+    let mut all = vec![command];
+    all.extend_from_slice(args);
+    rsts(&all)
+}
+
+/// The standard output of a run, as text.
+pub fn stdout(out: &Output) -> String {
+    String::from_utf8(out.stdout.clone()).expect("stdout is UTF-8")
+}
+
+/// The standard error of a run, as text.
+pub fn stderr(out: &Output) -> String {
+    String::from_utf8(out.stderr.clone()).expect("stderr is UTF-8")
+}
+
+/// The path `name` in this test process's temporary directory (created if needed):
+/// `rsts-<test file>-tests-<pid>`.
+pub fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "rsts-{}-tests-{}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Asserts that the run `out` exited with code 2 (bad input) and returns its stderr;
+/// `what` (the arguments, a case name) is shown if it did not.
+pub fn exit_2(out: &Output, what: impl Debug) -> String {
+    assert_eq!(out.status.code(), Some(2), "{what:?}");
+    stderr(out)
+}
+
+/// Runs `rsts args…`, expects exit code 2 and returns stderr.
+pub fn fails(args: &[&str]) -> String {
+    exit_2(&rsts(args), args)
+}
