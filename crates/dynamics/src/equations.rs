@@ -132,6 +132,153 @@ pub const EULER_POISSON: [Component; DIM] = [
     },
 ];
 
+/// One quadratic term of [`EULER_POISSON`] with the component `k` it belongs to, flattened at
+/// compile time from the table ([`QUADRATIC_TERMS`]).
+#[derive(Clone, Copy, Debug)]
+struct FlatQuadratic {
+    term: Quadratic,
+    k: usize,
+}
+
+/// Number of quadratic terms of a table (const-evaluated).
+const fn count_quadratic(table: &[Component; DIM]) -> usize {
+    let mut count = 0;
+    let mut k = 0;
+    while k < DIM {
+        count += table[k].quadratic.len();
+        k += 1;
+    }
+    count
+}
+
+/// Number of quadratic terms of [`EULER_POISSON`].
+const NQ: usize = count_quadratic(&EULER_POISSON);
+
+/// The quadratic terms of [`EULER_POISSON`] in table order (component by component), derived
+/// from the table at compile time: the f64 Taylor kernel loops over this constant list, so the
+/// compiler unrolls it into straight-line code with constant indices.
+const QUADRATIC_TERMS: [FlatQuadratic; NQ] = {
+    let mut out = [FlatQuadratic {
+        term: q(0.0, 0, 0),
+        k: 0,
+    }; NQ];
+    let mut n = 0;
+    let mut k = 0;
+    while k < DIM {
+        let quad = EULER_POISSON[k].quadratic;
+        let mut t = 0;
+        while t < quad.len() {
+            out[n] = FlatQuadratic { term: quad[t], k };
+            n += 1;
+            t += 1;
+        }
+        k += 1;
+    }
+    out
+};
+
+/// One linear term of [`EULER_POISSON`] with its component `k` ([`LINEAR_TERMS`]).
+#[derive(Clone, Copy, Debug)]
+struct FlatLinear {
+    term: Linear,
+    k: usize,
+}
+
+/// Number of linear terms of a table (const-evaluated).
+const fn count_linear(table: &[Component; DIM]) -> usize {
+    let mut count = 0;
+    let mut k = 0;
+    while k < DIM {
+        count += table[k].linear.len();
+        k += 1;
+    }
+    count
+}
+
+/// Number of linear terms of [`EULER_POISSON`].
+const NL: usize = count_linear(&EULER_POISSON);
+
+/// The linear terms of [`EULER_POISSON`] in table order, derived at compile time.
+const LINEAR_TERMS: [FlatLinear; NL] = {
+    let mut out = [FlatLinear {
+        term: l(0.0, Param::One, 0),
+        k: 0,
+    }; NL];
+    let mut n = 0;
+    let mut k = 0;
+    while k < DIM {
+        let lin = EULER_POISSON[k].linear;
+        let mut t = 0;
+        while t < lin.len() {
+            out[n] = FlatLinear { term: lin[t], k };
+            n += 1;
+            t += 1;
+        }
+        k += 1;
+    }
+    out
+};
+
+/// Same table as [`EULER_POISSON`] (term by term)?
+fn is_euler_poisson(table: &[Component; DIM]) -> bool {
+    fn same_q(a: &Quadratic, b: &Quadratic) -> bool {
+        a.c.to_bits() == b.c.to_bits() && a.param == b.param && a.i == b.i && a.j == b.j
+    }
+    fn same_l(a: &Linear, b: &Linear) -> bool {
+        a.c.to_bits() == b.c.to_bits() && a.param == b.param && a.i == b.i
+    }
+    table.iter().zip(&EULER_POISSON).all(|(a, b)| {
+        a.quadratic.len() == b.quadratic.len()
+            && a.linear.len() == b.linear.len()
+            && a.quadratic
+                .iter()
+                .zip(b.quadratic)
+                .all(|(x, y)| same_q(x, y))
+            && a.linear.iter().zip(b.linear).all(|(x, y)| same_l(x, y))
+    })
+}
+
+/// Scratch of [`VectorField::taylor_coefficient_orders`]: the factors of every quadratic term
+/// of [`EULER_POISSON`] gathered order by order (`left[m][t]` = x_{i(t),m}, `right[m][t]` =
+/// x_{j(t),m}), so each Cauchy step is one element-wise multiply-add over contiguous
+/// `[T; NQ]` rows (vectorised in f64), and the even/odd partial sums.
+#[derive(Clone, Debug)]
+pub struct CauchyScratch<T> {
+    left: Vec<[T; NQ]>,
+    right: Vec<[T; NQ]>,
+    /// Rows of `left`/`right` gathered from the current series.
+    rows: usize,
+    /// Even- and odd-m partial sums; moved out into locals during a call (so in f64 they
+    /// live in registers), never reallocated.
+    sums: Option<([T; NQ], [T; NQ])>,
+}
+
+impl<T: Real> CauchyScratch<T> {
+    pub fn new(like: &T) -> Self {
+        let zeros = || std::array::from_fn(|_| like.zero_like());
+        Self {
+            left: Vec::new(),
+            right: Vec::new(),
+            rows: 0,
+            sums: Some((zeros(), zeros())),
+        }
+    }
+
+    /// Gather row m of the factors from `row` = x_m.
+    fn gather(&mut self, m: usize, row: &[T; DIM]) {
+        while self.left.len() <= m {
+            let zeros: [T; NQ] = std::array::from_fn(|_| row[0].zero_like());
+            self.left.push(zeros.clone());
+            self.right.push(zeros);
+        }
+        let (left, right) = (&mut self.left[m], &mut self.right[m]);
+        for t in 0..NQ {
+            left[t].clone_from(&row[QUADRATIC_TERMS[t].term.i]);
+            right[t].clone_from(&row[QUADRATIC_TERMS[t].term.j]);
+        }
+    }
+}
+
 /// A term with its coefficient evaluated in the scalar type.
 #[derive(Clone, Debug)]
 struct Term<T> {
@@ -144,6 +291,16 @@ struct Term<T> {
 #[derive(Clone, Debug)]
 pub struct VectorField<T> {
     terms: Vec<Vec<Term<T>>>,
+    /// Built from [`EULER_POISSON`] itself: the const-unrolled kernel applies.
+    standard: bool,
+    /// Coefficients of [`QUADRATIC_TERMS`] then [`LINEAR_TERMS`] (parameters multiplied in),
+    /// when `standard`.
+    quad_c: Vec<T>,
+    lin_c: Vec<T>,
+    /// Flattened terms (coefficient, i, j, component k) of the table, for other tables.
+    quad: Vec<(T, usize, usize, usize)>,
+    /// Flattened linear terms (coefficient, i, component k).
+    lin: Vec<(T, usize, usize)>,
 }
 
 fn coefficient<T: Real>(fields: &Fields<T>, c: f64, param: Param) -> T {
@@ -179,7 +336,41 @@ impl<T: Real> VectorField<T> {
                 quad.chain(lin).collect()
             })
             .collect();
-        Self { terms }
+        let standard = is_euler_poisson(table);
+        let quad_c = if standard {
+            QUADRATIC_TERMS
+                .iter()
+                .map(|f| coefficient(fields, f.term.c, f.term.param))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let lin_c = if standard {
+            LINEAR_TERMS
+                .iter()
+                .map(|f| coefficient(fields, f.term.c, f.term.param))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let mut quad = Vec::new();
+        let mut lin = Vec::new();
+        for (k, comp) in table.iter().enumerate() {
+            for t in comp.quadratic {
+                quad.push((coefficient(fields, t.c, t.param), t.i, t.j, k));
+            }
+            for t in comp.linear {
+                lin.push((coefficient(fields, t.c, t.param), t.i, k));
+            }
+        }
+        Self {
+            terms,
+            standard,
+            quad_c,
+            lin_c,
+            quad,
+            lin,
+        }
     }
 
     /// dx/dt = f(x).
@@ -292,6 +483,71 @@ impl<T: Real> VectorField<T> {
         }
     }
 
+    /// Coefficient `n` of f(x(t)) from series stored order by order (`series[m][i]` is the
+    /// m-th coefficient of xᵢ; `series[..=n]` is read), into `out`: the form the Taylor
+    /// integrators use. Same terms, same order of the terms as
+    /// [`taylor_coefficient_into`](Self::taylor_coefficient_into), and the same even/odd split
+    /// of each Cauchy sum, so the results are the same (bit for bit in f64, up to the sign of
+    /// zeros); all the table's products advance together, so their sums are independent
+    /// chains.
+    /// For the table [`EULER_POISSON`] itself the loop over the products runs over the
+    /// compile-time list derived from it (straight-line code in f64); any other table goes
+    /// through the same loop over its run-time term list.
+    ///
+    /// `scratch` keeps the factors gathered from the rows 0..n of earlier calls: a call for
+    /// n ≥ 1 right after the call for n − 1 reuses them, so between the calls for 0, 1, …, n of
+    /// one recursion only row `series[n]` may be new (any other pattern of calls regathers).
+    pub fn taylor_coefficient_orders(
+        &self,
+        series: &[[T; DIM]],
+        n: usize,
+        out: &mut [T; DIM],
+        scratch: &mut CauchyScratch<T>,
+    ) {
+        let series = &series[..=n];
+        for o in out.iter_mut() {
+            *o = o.zero_like();
+        }
+        let (mut even, mut odd) = scratch.sums.take().expect("scratch in place");
+        if self.standard {
+            // Rows 0..n were gathered by the calls for 0..n on the same series (the Taylor
+            // recursion's order); otherwise (n = 0, or out of sequence) gather them all.
+            if n == 0 || scratch.rows != n {
+                for (m, row) in series[..n].iter().enumerate() {
+                    scratch.gather(m, row);
+                }
+            }
+            scratch.gather(n, &series[n]);
+            scratch.rows = n + 1;
+            cauchy_sums(&scratch.left, &scratch.right, n, &mut even, &mut odd);
+            let quad_c: &[T; NQ] = self.quad_c[..].try_into().expect("one per term");
+            for t in 0..NQ {
+                out[QUADRATIC_TERMS[t].k].mul_add_assign(&quad_c[t], &even[t]);
+            }
+            // Linear terms after the quadratic ones, per component (the order of the table).
+            let lin_c: &[T; NL] = self.lin_c[..].try_into().expect("one per term");
+            let last = &series[n];
+            for t in 0..NL {
+                out[LINEAR_TERMS[t].k].mul_add_assign(&lin_c[t], &last[LINEAR_TERMS[t].term.i]);
+            }
+        } else {
+            let (e, o) = (&mut even[..1], &mut odd[..1]);
+            let e: &mut [T; 1] = e.try_into().expect("one slot");
+            let o: &mut [T; 1] = o.try_into().expect("one slot");
+            for &(ref c, i, j, k) in &self.quad {
+                let left: Vec<[T; 1]> = series.iter().map(|r| [r[i].clone()]).collect();
+                let right: Vec<[T; 1]> = series.iter().map(|r| [r[j].clone()]).collect();
+                cauchy_sums(&left, &right, n, e, o);
+                out[k].mul_add_assign(c, &e[0]);
+            }
+            let last = &series[n];
+            for &(ref c, i, k) in &self.lin {
+                out[k].mul_add_assign(c, &last[i]);
+            }
+        }
+        scratch.sums = Some((even, odd));
+    }
+
     /// The Jacobian–vector product J(x)·v, from the table (one pass over the terms: the cost of
     /// about one right-hand-side evaluation).
     pub fn jacobian_vector_product(&self, x: &[T], v: &[T]) -> [T; DIM] {
@@ -327,5 +583,46 @@ impl<T: Real> VectorField<T> {
             }
         }
         jac
+    }
+}
+
+/// (xᵢxⱼ)ₙ = Σₘ xᵢ,ₘ xⱼ,ₙ₋ₘ for every quadratic term t at once, into `even`, from the
+/// gathered factors (`left[m][t]` = x_{i(t),m}, `right[m][t]` = x_{j(t),m}, m = 0..=n; `odd`
+/// is scratch). Even and odd m are summed apart and added at the end, exactly as in
+/// [`VectorField::taylor_coefficient_into`] (so f64 results are bit-for-bit the same); each
+/// step is an element-wise multiply-add of two contiguous rows.
+#[inline(always)]
+fn cauchy_sums<T: Real, const N: usize>(
+    left: &[[T; N]],
+    right: &[[T; N]],
+    n: usize,
+    even: &mut [T; N],
+    odd: &mut [T; N],
+) {
+    let (left, right) = (&left[..=n], &right[..=n]);
+    for (e, o) in even.iter_mut().zip(odd.iter_mut()) {
+        *e = e.zero_like();
+        *o = o.zero_like();
+    }
+    let mut m = 0;
+    while m < n {
+        let (a0, b0) = (&left[m], &right[n - m]);
+        let (a1, b1) = (&left[m + 1], &right[n - m - 1]);
+        for t in 0..N {
+            even[t].mul_add_assign(&a0[t], &b0[t]);
+            odd[t].mul_add_assign(&a1[t], &b1[t]);
+        }
+        m += 2;
+    }
+    if m == n {
+        let (a, b) = (&left[n], &right[0]);
+        for (t, e) in even.iter_mut().enumerate() {
+            e.mul_add_assign(&a[t], &b[t]);
+        }
+    }
+    if n >= 1 {
+        for (e, o) in even.iter_mut().zip(odd.iter()) {
+            *e += o;
+        }
     }
 }

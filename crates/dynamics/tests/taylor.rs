@@ -482,3 +482,89 @@ fn buffered_coefficients_and_jvp_match_the_plain_forms() {
         assert!((expected - w).abs() < 1e-14, "{expected} vs {w}");
     }
 }
+
+/// The integrator's kernel (`taylor_coefficient_orders`: series order by order, factors gathered
+/// per order, the term list derived from the table at compile time) gives bit-for-bit the
+/// coefficients of the plain buffered table evaluation `taylor_coefficient_into` on random
+/// series, called in sequence n = 0, 1, … and out of sequence; a table other than
+/// EULER_POISSON (the broken one) goes through the run-time term list and agrees as well.
+#[test]
+fn order_major_kernel_matches_the_table_evaluation() {
+    use rsts_dynamics::equations::CauchyScratch;
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let fields = Fields::new(1.3, 0.7).unwrap();
+    for field in [
+        VectorField::new(&fields),
+        VectorField::from_table(&fields, &broken_table()),
+    ] {
+        for len in [1, 2, 7, 20, 33] {
+            let series: Vec<Vec<f64>> = (0..9)
+                .map(|_| (0..len).map(|_| rng.gen_range(-1.0..1.0)).collect())
+                .collect();
+            let rows: Vec<[f64; 9]> = (0..len)
+                .map(|m| std::array::from_fn(|i| series[i][m]))
+                .collect();
+            let mut out = vec![0.0; 9];
+            let mut scratch = 0.0;
+            let mut fast = [0.0; 9];
+            let mut cauchy = CauchyScratch::new(&0.0);
+            let check = |n: usize, out: &[f64], fast: &[f64; 9]| {
+                for (a, b) in out.iter().zip(fast) {
+                    assert_eq!(
+                        a.to_bits() & !(1 << 63),
+                        b.to_bits() & !(1 << 63),
+                        "order {n}"
+                    );
+                    assert!(a == b, "order {n}: {a} vs {b}");
+                }
+            };
+            for n in 0..len {
+                field.taylor_coefficient_into(&series, n, &mut out, &mut scratch);
+                field.taylor_coefficient_orders(&rows, n, &mut fast, &mut cauchy);
+                check(n, &out, &fast);
+            }
+            // Out of sequence (a fresh gather of all rows).
+            for n in (0..len).rev() {
+                field.taylor_coefficient_into(&series, n, &mut out, &mut scratch);
+                field.taylor_coefficient_orders(&rows, n, &mut fast, &mut cauchy);
+                check(n, &out, &fast);
+            }
+        }
+    }
+}
+
+/// Per-step time of taylor-f64 at 1e-15 over T = 100 (the benchmark case): best of 300 runs of
+/// the integrator's own clock. `cargo test -p rsts-dynamics --release --test taylor -- --ignored
+/// taylor_f64_per_step_time --nocapture`.
+#[test]
+#[ignore]
+fn taylor_f64_per_step_time() {
+    let (s, c) = 0.3f64.sin_cos();
+    let problem = Problem {
+        fields: Fields::new(1.0, 0.5).unwrap(),
+        initial: State {
+            omega: [0.4, -0.7, 1.1],
+            alpha: [c, s, 0.0],
+            beta: [-s, c, 0.0],
+        },
+    };
+    let grid = OutputGrid::new(100.0, 101).unwrap();
+    let cfg = MethodConfig::new(
+        MethodName::TaylorF64,
+        Tolerances::new(1e-15, 1e-15).unwrap(),
+        None,
+    )
+    .unwrap();
+    let mut best = f64::INFINITY;
+    let mut steps = 0;
+    for _ in 0..300 {
+        let sol = cfg.propagate_f64(&problem, &grid).unwrap();
+        best = best.min(sol.stats.integration_seconds);
+        steps = sol.stats.accepted_steps;
+    }
+    eprintln!(
+        "taylor-f64 1e-15: {steps} steps, best {:.3} ms, {:.3} µs/step",
+        best * 1e3,
+        best * 1e6 / steps as f64
+    );
+}

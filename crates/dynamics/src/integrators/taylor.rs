@@ -3,8 +3,8 @@
 //! *Experimental Mathematics* 14 (2005), and heyoka (Biscani & Izzo, MNRAS 504 (2021)).
 //!
 //! * **Coefficients**: x₀ = x(tₙ), x_{k+1} = f(x)ₖ/(k+1), with f(x)ₖ from
-//!   [`VectorField::taylor_coefficient_into`] (Cauchy products over the one table of the
-//!   equations): O(p²) per step for order p.
+//!   [`VectorField::taylor_coefficient_orders`] (Cauchy products over the one table of the
+//!   equations, series stored order by order): O(p²) per step for order p.
 //! * **Order** from the tolerance ε: p = ⌈−ln(ε)/2⌉ + 1 (fixed for the run), with
 //!   ε = min(rtol, atol) but not below the unit round-off of the scalar.
 //! * **Step**: ρₘ = (X/‖xₘ‖∞)^{1/m} for m = p−1, p, h = min(ρ_{p−1}, ρ_p)·e^{−0.7/(p−1)}/e²,
@@ -25,7 +25,7 @@
 
 use std::time::Instant;
 
-use crate::equations::VectorField;
+use crate::equations::{CauchyScratch, VectorField};
 use crate::error::DynamicsError;
 use crate::scalar::Real;
 use crate::state::{State, DIM};
@@ -146,56 +146,66 @@ impl Taylor {
 struct Workspace<T> {
     field: VectorField<T>,
     order: usize,
-    /// `series[i][k]`: coefficient k of component i in the current step.
-    series: Vec<Vec<T>>,
+    /// `series[k][i]`: coefficient k of component i in the current step (order by order, so
+    /// the Cauchy products and Horner's rule run over contiguous `[T; DIM]` rows).
+    series: Vec<[T; DIM]>,
     /// 1, 2, …, order as scalars.
     ints: Vec<T>,
-    out: Vec<T>,
-    scratch: T,
+    out: [T; DIM],
+    scratch: CauchyScratch<T>,
 }
 
 impl<T: Real> Workspace<T> {
     fn new(field: VectorField<T>, order: usize, like: &T) -> Self {
         let zero = like.zero_like();
+        let row: [T; DIM] = std::array::from_fn(|_| zero.clone());
         Self {
             field,
             order,
-            series: vec![vec![zero.clone(); order + 1]; DIM],
+            series: vec![row.clone(); order + 1],
             ints: (1..=order).map(|k| like.lit(k as f64)).collect(),
-            out: vec![zero.clone(); DIM],
-            scratch: zero,
+            out: row,
+            scratch: CauchyScratch::new(like),
         }
     }
 
     /// Taylor coefficients 0..=order at the state hi + lo.
     fn coefficients(&mut self, state: &[Compensated<T>]) {
-        for (s, x) in self.series.iter_mut().zip(state) {
-            s[0].clone_from(&x.hi);
+        for (s, x) in self.series[0].iter_mut().zip(state) {
+            s.clone_from(&x.hi);
         }
         for n in 0..self.order {
-            self.field
-                .taylor_coefficient_into(&self.series, n, &mut self.out, &mut self.scratch);
+            self.field.taylor_coefficient_orders(
+                &self.series[..=n],
+                n,
+                &mut self.out,
+                &mut self.scratch,
+            );
             if n == 0 {
                 // First-order effect of the low parts: f(hi + lo) ≈ f(hi) + J(hi)·lo.
-                let hi: Vec<T> = state.iter().map(|x| x.hi.clone()).collect();
-                let lo: Vec<T> = state.iter().map(|x| x.lo.clone()).collect();
-                let jl = self.field.jacobian_vector_product(&hi, &lo);
+                let lo: [T; DIM] = std::array::from_fn(|i| state[i].lo.clone());
+                let jl = self.field.jacobian_vector_product(&self.series[0], &lo);
                 for (o, d) in self.out.iter_mut().zip(jl.iter()) {
                     *o += d;
                 }
             }
-            for (s, o) in self.series.iter_mut().zip(&self.out) {
-                s[n + 1].clone_from(o);
-                s[n + 1] /= &self.ints[n];
+            // A local copy of the divisor: the row and the divisor then provably do not alias,
+            // and in f64 the nine divisions vectorise.
+            let div = self.ints[n].clone();
+            let row = &mut self.series[n + 1];
+            for (s, o) in row.iter_mut().zip(&self.out) {
+                s.clone_from(o);
+                *s /= &div;
             }
         }
     }
 
     /// ln ‖x_m‖∞ as f64 (−∞ when the coefficients vanish).
     fn ln_norm(&self, m: usize) -> f64 {
-        let mut norm = self.series[0][m].abs();
-        for s in &self.series[1..] {
-            norm = norm.max_of(s[m].abs());
+        let row = &self.series[m];
+        let mut norm = row[0].abs();
+        for s in &row[1..] {
+            norm = norm.max_of(s.abs());
         }
         if norm.to_f64() == 0.0 && norm <= norm.zero_like() {
             f64::NEG_INFINITY
@@ -204,19 +214,18 @@ impl<T: Real> Workspace<T> {
         }
     }
 
-    /// Σ_{k≥1} x_k τ^k for every component (Horner).
-    fn increment(&self, tau: &T) -> Vec<T> {
-        self.series
-            .iter()
-            .map(|s| {
-                let mut acc = s[self.order].clone();
-                for k in (1..self.order).rev() {
-                    acc *= tau;
-                    acc += &s[k];
-                }
-                acc * tau
-            })
-            .collect()
+    /// Σ_{k≥1} x_k τ^k for every component (Horner), into `acc`.
+    fn increment(&self, tau: &T, acc: &mut [T; DIM]) {
+        acc.clone_from(&self.series[self.order]);
+        for row in self.series[1..self.order].iter().rev() {
+            for (a, s) in acc.iter_mut().zip(row) {
+                *a *= tau;
+                *a += s;
+            }
+        }
+        for a in acc.iter_mut() {
+            *a *= tau;
+        }
     }
 }
 
@@ -269,6 +278,7 @@ impl Taylor {
         let mut times = Vec::with_capacity(grid.samples);
         let mut states = Vec::with_capacity(grid.samples);
         let mut next = 0;
+        let mut inc: [T; DIM] = std::array::from_fn(|_| like.zero_like());
         while next < grid.samples {
             if stats.accepted_steps >= MAX_STEPS {
                 return Err(DynamicsError::Integration(format!(
@@ -314,10 +324,10 @@ impl Taylor {
             while next < grid.samples && grid.time(next) <= t_step_end {
                 let tg = grid.time(next);
                 let tau = (like.lit(tg) - &t.hi) - &t.lo;
-                let inc = work.increment(&tau);
+                work.increment(&tau, &mut inc);
                 let x: Vec<T> = state
                     .iter()
-                    .zip(inc)
+                    .zip(&inc)
                     .map(|(s, d)| s.hi.clone() + (s.lo.clone() + d))
                     .collect();
                 if x.iter().any(|v| !v.is_finite()) {
@@ -335,7 +345,7 @@ impl Taylor {
 
             // Compensated update of the state and the time.
             let h_t = like.lit(h);
-            let inc = work.increment(&h_t);
+            work.increment(&h_t, &mut inc);
             for (s, d) in state.iter_mut().zip(&inc) {
                 s.add(d);
             }
