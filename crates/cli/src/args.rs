@@ -160,16 +160,23 @@ impl GridArgs {
     }
 }
 
-/// The point (m, h) of the invariant manifold N, the torus and the phases of a motion (used by
-/// `compare` and `bench`; the time grid has its own options there).
-#[derive(Debug, Clone, Args)]
-pub struct CaseArgs {
+/// The field strengths of the closed-form commands (a > b > 0: the manifold N of the seed).
+#[derive(Debug, Clone, Copy, Args)]
+pub struct FieldArgs {
     /// Strength a of the first field; a > b > 0
     #[arg(long, value_name = "A", default_value = "1", value_parser = finite_f64, allow_hyphen_values = true)]
     pub a: f64,
     /// Strength b of the second field
     #[arg(long, value_name = "B", default_value = "0.5", value_parser = finite_f64, allow_hyphen_values = true)]
     pub b: f64,
+}
+
+/// The point (m, h) of the invariant manifold N, the torus and the phases of a motion (used by
+/// `compare` and `bench`; the time grid has its own options there).
+#[derive(Debug, Clone, Args)]
+pub struct CaseArgs {
+    #[command(flatten)]
+    pub fields: FieldArgs,
     /// Value m of the partial integral of N
     #[arg(long, value_name = "M", default_value = "0.3", value_parser = finite_f64, allow_hyphen_values = true)]
     pub m: f64,
@@ -191,8 +198,8 @@ impl CaseArgs {
     /// The harness case on the grid of `samples` times over [0, `t_end`].
     pub fn case(&self, t_end: f64, samples: usize) -> rsts_harness::Case {
         rsts_harness::Case {
-            a: self.a,
-            b: self.b,
+            a: self.fields.a,
+            b: self.fields.b,
             m: self.m,
             h: self.h,
             torus: self.torus,

@@ -248,7 +248,12 @@ fn write_table(out: &mut dyn Write, args: &Args, r: &Report) -> anyhow::Result<(
                 "camera",
                 format!(
                     "{} (a = {}, b = {}, m = {}, h = {}, torus {})",
-                    r.camera, args.case.a, args.case.b, args.case.m, args.case.h, args.case.torus
+                    r.camera,
+                    args.case.fields.a,
+                    args.case.fields.b,
+                    args.case.m,
+                    args.case.h,
+                    args.case.torus
                 ),
             ),
             (

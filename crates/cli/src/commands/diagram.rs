@@ -10,7 +10,7 @@ use clap::Args as ClapArgs;
 
 use rsts_closed_form::diagram::{describe_point, diagram_svg, DiagramOptions};
 
-use crate::args::finite_f64;
+use crate::args::{finite_f64, FieldArgs};
 use crate::output::{self, Format};
 
 /// Shown at the end of `rsts diagram --help`.
@@ -26,12 +26,8 @@ Examples:
 /// Options of `rsts diagram`.
 #[derive(Debug, Clone, ClapArgs)]
 pub struct Args {
-    /// Strength a of the first field; a > b > 0
-    #[arg(long, value_name = "A", default_value = "1", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub a: f64,
-    /// Strength b of the second field
-    #[arg(long, value_name = "B", default_value = "0.5", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub b: f64,
+    #[command(flatten)]
+    pub fields: FieldArgs,
     /// Write the picture of the (m, h) plane to this SVG file
     #[arg(long, value_name = "FILE", conflicts_with_all = ["m", "h"])]
     pub svg: Option<PathBuf>,
@@ -73,7 +69,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 h_range: args.h_range,
                 ..DiagramOptions::default()
             };
-            let svg = diagram_svg(args.a, args.b, &opts)?;
+            let svg = diagram_svg(args.fields.a, args.fields.b, &opts)?;
             if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
                 std::fs::create_dir_all(dir)
                     .with_context(|| format!("--svg: cannot create {}", dir.display()))?;
@@ -83,7 +79,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             writeln!(out, "wrote {}", path.display())?;
         }
         (None, Some(m), Some(h)) => {
-            let d = describe_point(args.a, args.b, m, h)?;
+            let d = describe_point(args.fields.a, args.fields.b, m, h)?;
             match args.format {
                 Format::Json => output::write_json(out, &d)?,
                 Format::Table | Format::Csv => write!(out, "{d}")?,

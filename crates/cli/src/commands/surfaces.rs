@@ -16,7 +16,7 @@ use rsts_geometry::ply::ply_text;
 use rsts_geometry::render::{auto_view, render_png, RenderOptions, MAX_SIDE, MIN_SIDE};
 use rsts_geometry::scene::write_scene;
 
-use crate::args::{count, finite_f64};
+use crate::args::{count, finite_f64, FieldArgs};
 
 /// Shown at the end of `rsts surfaces --help`.
 pub const EXAMPLES: &str = "\
@@ -33,12 +33,8 @@ Examples:
 /// Options of `rsts surfaces`.
 #[derive(Debug, Clone, ClapArgs)]
 pub struct Args {
-    /// Strength a of the first field; a > b > 0
-    #[arg(long, value_name = "A", default_value = "1", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub a: f64,
-    /// Strength b of the second field
-    #[arg(long, value_name = "B", default_value = "0.5", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub b: f64,
+    #[command(flatten)]
+    pub fields: FieldArgs,
     /// Integral constant m
     #[arg(long, value_name = "M", value_parser = finite_f64, allow_hyphen_values = true)]
     pub m: f64,
@@ -137,7 +133,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         phase1: args.phases.0,
         phase2: args.phases.1,
     };
-    let first = ExplicitMotion::<f64>::new(args.a, args.b, args.m, args.h, choice(0))?;
+    let first =
+        ExplicitMotion::<f64>::new(args.fields.a, args.fields.b, args.m, args.h, choice(0))?;
     let tori: Vec<usize> = match args.torus {
         Some(k) if k >= first.tori => bail!(
             "--torus {k}: camera {} has {} torus/tori (0..{})",
@@ -165,10 +162,11 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     writeln!(
         out,
         "camera {} (a = {}, b = {}, m = {}, h = {}), {} torus/tori",
-        first.camera, args.a, args.b, args.m, args.h, first.tori
+        first.camera, args.fields.a, args.fields.b, args.m, args.h, first.tori
     )?;
     for k in tori {
-        let motion = ExplicitMotion::<f64>::new(args.a, args.b, args.m, args.h, choice(k))?;
+        let motion =
+            ExplicitMotion::<f64>::new(args.fields.a, args.fields.b, args.m, args.h, choice(k))?;
         let mesh = TorusMesh::new(&motion, args.grid, args.grid)?;
         let [p1, p2] = motion.periods();
         let t_end = args.periods * p1.max(p2);
@@ -191,8 +189,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                     "rsts {}: camera {}, a = {}, b = {}, m = {}, h = {}, torus {k}, grid {n}x{n} in (psi1, psi2)",
                     surface.title(),
                     motion.camera,
-                    args.a,
-                    args.b,
+                    args.fields.a,
+                    args.fields.b,
                     args.m,
                     args.h,
                     n = args.grid

@@ -8,7 +8,7 @@ use clap::Args as ClapArgs;
 
 use rsts_geometry::tables::table1;
 
-use crate::args::finite_f64;
+use crate::args::FieldArgs;
 use crate::output::{self, Cell, Format, Tabular};
 
 /// Shown at the end of `rsts table1 --help`.
@@ -20,12 +20,8 @@ Examples:
 /// Options of `rsts table1`.
 #[derive(Debug, Clone, ClapArgs)]
 pub struct Args {
-    /// Strength a of the first field; a > b > 0
-    #[arg(long, value_name = "A", default_value = "1", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub a: f64,
-    /// Strength b of the second field
-    #[arg(long, value_name = "B", default_value = "0.5", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub b: f64,
+    #[command(flatten)]
+    pub fields: FieldArgs,
     /// Output format
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
@@ -36,11 +32,11 @@ fn yes_no(b: bool) -> Cell {
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    let rows = table1(args.a, args.b)?;
+    let rows = table1(args.fields.a, args.fields.b)?;
     if args.format == Format::Json {
         output::write_json(
             out,
-            &serde_json::json!({"a": args.a, "b": args.b, "cameras": rows}),
+            &serde_json::json!({"a": args.fields.a, "b": args.fields.b, "cameras": rows}),
         )?;
         return Ok(());
     }
@@ -92,7 +88,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             writeln!(
                 out,
                 "Table 1 at a = {}, b = {} (one representative point per camera)",
-                args.a, args.b
+                args.fields.a, args.fields.b
             )?;
             output::write_table(out, &t)?;
             let bad = rows

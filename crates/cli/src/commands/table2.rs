@@ -9,7 +9,7 @@ use clap::Args as ClapArgs;
 
 use rsts_geometry::tables::table2;
 
-use crate::args::finite_f64;
+use crate::args::FieldArgs;
 use crate::output::{self, Cell, Format, Tabular};
 
 /// Shown at the end of `rsts table2 --help`.
@@ -21,23 +21,19 @@ Examples:
 /// Options of `rsts table2`.
 #[derive(Debug, Clone, ClapArgs)]
 pub struct Args {
-    /// Strength a of the first field; a > b > 0
-    #[arg(long, value_name = "A", default_value = "1", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub a: f64,
-    /// Strength b of the second field
-    #[arg(long, value_name = "B", default_value = "0.5", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub b: f64,
+    #[command(flatten)]
+    pub fields: FieldArgs,
     /// Output format (table or json)
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    let rows = table2(args.a, args.b)?;
+    let rows = table2(args.fields.a, args.fields.b)?;
     if args.format == Format::Json {
         output::write_json(
             out,
-            &serde_json::json!({"a": args.a, "b": args.b, "cameras": rows}),
+            &serde_json::json!({"a": args.fields.a, "b": args.fields.b, "cameras": rows}),
         )?;
         return Ok(());
     }
@@ -88,7 +84,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             writeln!(
                 out,
                 "Table 2 at a = {}, b = {} (one representative point per camera)",
-                args.a, args.b
+                args.fields.a, args.fields.b
             )?;
             output::write_table(out, &t)?;
             writeln!(out, "differences from the seed (sec. 3):")?;
