@@ -150,6 +150,24 @@ pub fn write_key_values(out: &mut dyn Write, items: &[(&str, String)]) -> io::Re
     Ok(())
 }
 
+/// For the per-camera tables: name the cameras of Table 1 that `found` does not report (a scan
+/// of the (m, h) plane misses cameras that are too thin at some b/a).
+pub fn write_missing_cameras(out: &mut dyn Write, found: impl Fn(&str) -> bool) -> io::Result<()> {
+    let missing: Vec<&str> = rsts_closed_form::Camera::ALL
+        .iter()
+        .map(|c| c.label())
+        .filter(|l| !found(l))
+        .collect();
+    if missing.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        out,
+        "not found on the scan of the (m, h) plane (too thin at this b/a): {}",
+        missing.join(", ")
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

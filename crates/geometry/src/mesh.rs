@@ -181,7 +181,11 @@ pub(crate) fn norm(p: [f64; 3]) -> f64 {
 /// Unit normal of a triangle (zero for a degenerate one).
 pub fn triangle_normal(v: &[[f64; 3]], t: [u32; 3]) -> [f64; 3] {
     let [p, q, r] = t.map(|i| v[i as usize]);
-    let n = cross(sub(q, p), sub(r, p));
+    unit(cross(sub(q, p), sub(r, p)))
+}
+
+/// `n / |n|`, or zero for a zero or non-finite vector.
+pub fn unit(n: [f64; 3]) -> [f64; 3] {
     let l = norm(n);
     if l > 0.0 && l.is_finite() {
         n.map(|x| x / l)
@@ -202,16 +206,7 @@ pub fn vertex_normals(v: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[f64; 3]> {
             }
         }
     }
-    acc.into_iter()
-        .map(|n| {
-            let l = norm(n);
-            if l > 0.0 && l.is_finite() {
-                n.map(|x| x / l)
-            } else {
-                [0.0; 3]
-            }
-        })
-        .collect()
+    acc.into_iter().map(unit).collect()
 }
 
 /// For each vertex the longest incident edge: the local mesh spacing.

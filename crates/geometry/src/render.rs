@@ -4,7 +4,7 @@
 //! polyline on top (depth-tested; its hidden parts drawn faint), a small axis triad, 2 × 2
 //! supersampling, written as an 8-bit RGB PNG.
 
-use crate::mesh::{bounds, norm, triangle_normal};
+use crate::mesh::{bounds, norm, triangle_normal, unit};
 use crate::GeometryError;
 
 /// Options of [`render_png`].
@@ -317,16 +317,7 @@ pub fn unoriented_normals(v: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[f64; 3
             }
         }
     }
-    acc.into_iter()
-        .map(|n| {
-            let l = norm(n);
-            if l > 0.0 && l.is_finite() {
-                n.map(|x| x / l)
-            } else {
-                [0.0; 3]
-            }
-        })
-        .collect()
+    acc.into_iter().map(unit).collect()
 }
 
 /// A viewing direction (azimuth, elevation in degrees) that shows a surface broadside: along its

@@ -8,7 +8,6 @@
 //! [`reference_bits`] of the method (64 bits beyond it), and reused across repeats and
 //! tolerances.
 
-use rsts_closed_form::{ExplicitMotion, TorusChoice};
 use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Solution};
 use rsts_dynamics::{DynamicsError, Fields, State};
 use rug::Float;
@@ -46,15 +45,8 @@ impl Reference {
     /// Evaluate the closed form of `case` at its N sample times k·T/(N−1) (the f64 times of
     /// [`OutputGrid::time`], taken exactly) in `bits` bits.
     pub fn new(case: &Case, bits: u32) -> Result<Self, HarnessError> {
-        case.validate()?;
         let f = |x: f64| Float::with_val(bits, x);
-        let choice = TorusChoice {
-            torus: case.torus,
-            phase1: case.phase1,
-            phase2: case.phase2,
-        };
-        let motion = ExplicitMotion::new(f(case.a), f(case.b), f(case.m), f(case.h), choice)?;
-        let fields = Fields::new(f(case.a), f(case.b))?;
+        let (motion, fields) = case.reference_motion(bits)?;
         let grid = OutputGrid::new(case.t_end, case.samples)?;
         let states = (0..grid.samples)
             .map(|k| exact_state(&motion.at(&f(grid.time(k)))))
@@ -192,6 +184,7 @@ fn summarize(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rsts_closed_form::{ExplicitMotion, TorusChoice};
     use rsts_dynamics::integrators::{MethodName, Stats, Tolerances};
 
     fn case(t_end: f64, samples: usize) -> Case {

@@ -1,5 +1,8 @@
 //! A comparison case: the point (m, h) of N, the torus and phases, and the sample times.
 
+use rsts_closed_form::{ExplicitMotion, TorusChoice};
+use rsts_dynamics::Fields;
+use rug::Float;
 use serde::{Deserialize, Serialize};
 
 use crate::HarnessError;
@@ -64,5 +67,22 @@ impl Case {
             return Err(HarnessError::Case("samples must be at least 1".into()));
         }
         Ok(())
+    }
+
+    /// The closed-form motion of the case and its fields, at `bits` bits (the reference).
+    pub fn reference_motion(
+        &self,
+        bits: u32,
+    ) -> Result<(ExplicitMotion<Float>, Fields<Float>), HarnessError> {
+        self.validate()?;
+        let f = |x: f64| Float::with_val(bits, x);
+        let choice = TorusChoice {
+            torus: self.torus,
+            phase1: self.phase1,
+            phase2: self.phase2,
+        };
+        let motion = ExplicitMotion::new(f(self.a), f(self.b), f(self.m), f(self.h), choice)?;
+        let fields = Fields::new(f(self.a), f(self.b))?;
+        Ok((motion, fields))
     }
 }

@@ -1,6 +1,6 @@
 //! The comparison loop.
 
-use rsts_closed_form::{ExplicitMotion, TorusChoice};
+use rsts_closed_form::ExplicitMotion;
 use rsts_dynamics::integrals::integrals;
 use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem};
 use rsts_dynamics::scalar::{bits_for_digits, digits_for_bits};
@@ -79,16 +79,9 @@ pub fn compare(
     config: &MethodConfig,
     observer: &mut dyn Observer,
 ) -> Result<Report, HarnessError> {
-    case.validate()?;
     let bits = reference_bits(config);
     let f = |x: f64| Float::with_val(bits, x);
-    let choice = TorusChoice {
-        torus: case.torus,
-        phase1: case.phase1,
-        phase2: case.phase2,
-    };
-    let motion = ExplicitMotion::new(f(case.a), f(case.b), f(case.m), f(case.h), choice)?;
-    let fields = Fields::new(f(case.a), f(case.b))?;
+    let (motion, fields) = case.reference_motion(bits)?;
     let c = &motion.constants;
     let r4 = c.r2.clone() * &c.r2;
     let n = ManifoldN {

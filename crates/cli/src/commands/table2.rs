@@ -66,17 +66,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             Cell::Text(list(&r.radicals_changing_sign)),
         ]);
     }
-    let missing: Vec<&str> = rsts_closed_form::Camera::ALL
-        .iter()
-        .map(|c| c.label())
-        .filter(|l| !rows.iter().any(|r| r.camera == *l))
-        .collect();
-    if !missing.is_empty() && args.format == Format::Table {
-        writeln!(
-            out,
-            "not found on the scan of the (m, h) plane (too thin at this b/a): {}",
-            missing.join(", ")
-        )?;
+    if args.format == Format::Table {
+        output::write_missing_cameras(out, |l| rows.iter().any(|r| r.camera == l))?;
     }
     match args.format {
         Format::Csv => output::write_csv(out, &t)?,
