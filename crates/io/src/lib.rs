@@ -1,0 +1,427 @@
+//! Output files written whole or not at all.
+//!
+//! Every file `rsts` writes goes through [`AtomicFile`] (or [`AtomicDir`] for a directory of
+//! files): the bytes go to a temporary beside the target (same directory, so the final rename
+//! stays on one file system) and [`AtomicFile::commit`] renames it into place. Until then the
+//! target is untouched: a rejected, failed, interrupted or concurrent run leaves either the
+//! previous file or a complete new one, never a partial one. Temporaries are removed when the
+//! value is dropped uncommitted, and [`remove_temporaries`] removes those still open (call it from
+//! a Ctrl-C handler before exiting).
+//!
+//! [`check_writable`] tells, before long work starts, whether a target can be written.
+
+use std::collections::BTreeSet;
+use std::ffi::OsString;
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, BufWriter, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
+
+/// Temporaries currently open in this process (removed by [`remove_temporaries`]).
+static OPEN: Mutex<BTreeSet<PathBuf>> = Mutex::new(BTreeSet::new());
+static COUNTER: AtomicU64 = AtomicU64::new(0);
+
+fn register(p: &Path) {
+    if let Ok(mut set) = OPEN.lock() {
+        set.insert(p.to_path_buf());
+    }
+}
+
+fn unregister(p: &Path) {
+    if let Ok(mut set) = OPEN.lock() {
+        set.remove(p);
+    }
+}
+
+/// Remove every temporary file and directory this process still has open (for a signal handler
+/// that is about to exit: the targets keep their previous contents). Safe to call more than once.
+pub fn remove_temporaries() {
+    // try_lock: a handler must not wait for a lock the interrupted thread may hold.
+    let paths: Vec<PathBuf> = match OPEN.try_lock() {
+        Ok(mut set) => std::mem::take(&mut *set).into_iter().collect(),
+        Err(_) => return,
+    };
+    for p in paths {
+        if p.is_dir() {
+            let _ = fs::remove_dir_all(&p);
+        } else {
+            let _ = fs::remove_file(&p);
+        }
+    }
+}
+
+/// The directory a target lives in ("." for a bare file name).
+fn parent_dir(target: &Path) -> PathBuf {
+    match target.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// A fresh temporary name beside `target`: `.NAME.tmp-PID-N`.
+fn temporary_beside(target: &Path) -> io::Result<PathBuf> {
+    let name = target.file_name().ok_or_else(|| {
+        io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{} is not a file name", target.display()),
+        )
+    })?;
+    let mut tmp = OsString::from(".");
+    tmp.push(name);
+    tmp.push(format!(
+        ".tmp-{}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    Ok(parent_dir(target).join(tmp))
+}
+
+/// Prefix an I/O error with what was being done (the OS message, e.g. "No space left on device",
+/// is kept).
+fn context(e: io::Error, what: impl std::fmt::Display) -> io::Error {
+    io::Error::new(e.kind(), format!("{what}: {e}"))
+}
+
+/// Create the directory of `target` if needed and check that a file can be created in it and that
+/// `target` itself is not a directory. Nothing is left behind.
+pub fn check_writable(target: &Path) -> io::Result<()> {
+    if target.is_dir() {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{} is a directory", target.display()),
+        ));
+    }
+    let dir = parent_dir(target);
+    fs::create_dir_all(&dir).map_err(|e| context(e, format!("cannot create {}", dir.display())))?;
+    let tmp = temporary_beside(target)?;
+    File::options()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+        .map_err(|e| context(e, format!("cannot write in {}", dir.display())))?;
+    let _ = fs::remove_file(&tmp);
+    Ok(())
+}
+
+/// A file that appears at its path only when [`commit`](Self::commit)ted.
+#[derive(Debug)]
+pub struct AtomicFile {
+    target: PathBuf,
+    tmp: PathBuf,
+    file: Option<BufWriter<File>>,
+}
+
+impl AtomicFile {
+    /// Start writing `target` (its directory is created when missing). The target is not touched.
+    pub fn create(target: impl AsRef<Path>) -> io::Result<Self> {
+        let target = target.as_ref().to_path_buf();
+        if target.is_dir() {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("{} is a directory", target.display()),
+            ));
+        }
+        let dir = parent_dir(&target);
+        fs::create_dir_all(&dir)
+            .map_err(|e| context(e, format!("cannot create {}", dir.display())))?;
+        let tmp = temporary_beside(&target)?;
+        let file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(|e| context(e, format!("cannot create {}", target.display())))?;
+        register(&tmp);
+        Ok(Self {
+            target,
+            tmp,
+            file: Some(BufWriter::new(file)),
+        })
+    }
+
+    /// The final path.
+    pub fn path(&self) -> &Path {
+        &self.target
+    }
+
+    fn inner(&mut self) -> io::Result<&mut BufWriter<File>> {
+        self.file
+            .as_mut()
+            .ok_or_else(|| io::Error::other("the file was already committed"))
+    }
+
+    /// Flush, sync and rename into place. On error the temporary is removed and the target keeps
+    /// what it had.
+    pub fn commit(mut self) -> io::Result<()> {
+        let target = self.target.clone();
+        let mut w = self.file.take().expect("an uncommitted file has a writer");
+        let result = (|| {
+            w.flush()?;
+            let f = w.into_inner().map_err(|e| e.into_error())?;
+            f.sync_all()?;
+            drop(f);
+            fs::rename(&self.tmp, &target)?;
+            // Best effort: make the rename itself durable.
+            if let Ok(d) = File::open(parent_dir(&target)) {
+                let _ = d.sync_all();
+            }
+            Ok(())
+        })();
+        match result {
+            Ok(()) => {
+                unregister(&self.tmp);
+                Ok(())
+            }
+            Err(e) => {
+                let _ = fs::remove_file(&self.tmp);
+                unregister(&self.tmp);
+                Err(context(e, format!("writing {}", target.display())))
+            }
+        }
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.inner()?.write(buf)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner()?.flush()
+    }
+}
+
+impl Seek for AtomicFile {
+    fn seek(&mut self, pos: SeekFrom) -> io::Result<u64> {
+        self.inner()?.seek(pos)
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.file.take().is_some() {
+            let _ = fs::remove_file(&self.tmp);
+            unregister(&self.tmp);
+        }
+    }
+}
+
+/// Write `bytes` to `target` whole or not at all.
+pub fn write_atomic(target: impl AsRef<Path>, bytes: &[u8]) -> io::Result<()> {
+    let mut f = AtomicFile::create(target)?;
+    f.write_all(bytes)?;
+    f.commit()
+}
+
+/// A directory of output files (a report) that appears at its path only when committed; an
+/// existing directory at that path is replaced only then.
+#[derive(Debug)]
+pub struct AtomicDir {
+    target: PathBuf,
+    tmp: PathBuf,
+    committed: bool,
+}
+
+impl AtomicDir {
+    /// Start building `target` in a temporary directory beside it.
+    pub fn create(target: impl AsRef<Path>) -> io::Result<Self> {
+        let target = target.as_ref().to_path_buf();
+        if target.exists() && !target.is_dir() {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("{} exists and is not a directory", target.display()),
+            ));
+        }
+        let dir = parent_dir(&target);
+        fs::create_dir_all(&dir)
+            .map_err(|e| context(e, format!("cannot create {}", dir.display())))?;
+        let tmp = temporary_beside(&target)?;
+        fs::create_dir(&tmp)
+            .map_err(|e| context(e, format!("cannot create {}", target.display())))?;
+        register(&tmp);
+        Ok(Self {
+            target,
+            tmp,
+            committed: false,
+        })
+    }
+
+    /// The final path.
+    pub fn path(&self) -> &Path {
+        &self.target
+    }
+
+    /// Where the files go until the commit (write them there, e.g. with [`write_atomic`] or
+    /// plain `fs::write`: the whole directory is what is atomic).
+    pub fn staging(&self) -> &Path {
+        &self.tmp
+    }
+
+    /// Move the finished directory into place. An existing directory at the target is swapped
+    /// out in one step where the OS can (Linux `renameat2(RENAME_EXCHANGE)`), else moved aside
+    /// first; then removed.
+    pub fn commit(mut self) -> io::Result<()> {
+        let result = replace_dir(&self.tmp, &self.target);
+        if result.is_err() {
+            let _ = fs::remove_dir_all(&self.tmp);
+        }
+        unregister(&self.tmp);
+        self.committed = true;
+        result.map_err(|e| context(e, format!("writing {}", self.target.display())))
+    }
+}
+
+impl Drop for AtomicDir {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = fs::remove_dir_all(&self.tmp);
+            unregister(&self.tmp);
+        }
+    }
+}
+
+fn replace_dir(new: &Path, target: &Path) -> io::Result<()> {
+    if !target.exists() {
+        return fs::rename(new, target);
+    }
+    #[cfg(target_os = "linux")]
+    {
+        use std::ffi::CString;
+        use std::os::unix::ffi::OsStrExt;
+        let a = CString::new(new.as_os_str().as_bytes())?;
+        let b = CString::new(target.as_os_str().as_bytes())?;
+        // SAFETY: both are valid NUL-terminated paths; AT_FDCWD resolves them relative to the cwd.
+        let rc = unsafe {
+            libc::renameat2(
+                libc::AT_FDCWD,
+                a.as_ptr(),
+                libc::AT_FDCWD,
+                b.as_ptr(),
+                libc::RENAME_EXCHANGE,
+            )
+        };
+        if rc == 0 {
+            // `new` now holds the old directory.
+            let _ = fs::remove_dir_all(new);
+            return Ok(());
+        }
+    }
+    let aside = temporary_beside(target)?;
+    fs::rename(target, &aside)?;
+    if let Err(e) = fs::rename(new, target) {
+        let _ = fs::rename(&aside, target);
+        return Err(e);
+    }
+    let _ = fs::remove_dir_all(&aside);
+    Ok(())
+}
+
+/// Tests that cannot run here (an optional tool such as node, scipy or heyoka is missing) call
+/// this instead of passing silently: it prints `SKIPPED: TEST: REASON` on stderr and appends the
+/// same line to the file named by `RSTS_SKIP_LOG` (set by `scripts/test.sh`, which counts the
+/// skipped tests in its summary line).
+pub fn report_skip(test: &str, reason: &str) {
+    let line = format!("SKIPPED: {test}: {reason}");
+    eprintln!("{line}");
+    if let Some(path) = std::env::var_os("RSTS_SKIP_LOG") {
+        if let Ok(mut f) = OpenOptions::new().create(true).append(true).open(path) {
+            let _ = writeln!(f, "{line}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("rsts-io-{}-{name}", std::process::id()));
+        let _ = fs::remove_dir_all(&d);
+        fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn entries(d: &Path) -> Vec<String> {
+        let mut v: Vec<String> = fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn uncommitted_file_leaves_the_old_one_and_no_temporary() {
+        let d = scratch("drop");
+        let p = d.join("keep.txt");
+        fs::write(&p, "old").unwrap();
+        {
+            let mut f = AtomicFile::create(&p).unwrap();
+            f.write_all(b"new, half").unwrap();
+            assert_eq!(
+                fs::read_to_string(&p).unwrap(),
+                "old",
+                "target touched early"
+            );
+        }
+        assert_eq!(fs::read_to_string(&p).unwrap(), "old");
+        assert_eq!(entries(&d), vec!["keep.txt"]);
+    }
+
+    #[test]
+    fn commit_replaces_whole() {
+        let d = scratch("commit");
+        let p = d.join("sub/out.bin");
+        fs::create_dir_all(p.parent().unwrap()).unwrap();
+        fs::write(&p, "old").unwrap();
+        let mut f = AtomicFile::create(&p).unwrap();
+        f.write_all(b"complete").unwrap();
+        f.commit().unwrap();
+        assert_eq!(fs::read_to_string(&p).unwrap(), "complete");
+        assert_eq!(entries(p.parent().unwrap()), vec!["out.bin"]);
+    }
+
+    #[test]
+    fn remove_temporaries_cleans_open_files() {
+        let d = scratch("signal");
+        let p = d.join("x.mcap");
+        let mut f = AtomicFile::create(&p).unwrap();
+        f.write_all(b"partial").unwrap();
+        f.flush().unwrap();
+        assert_eq!(entries(&d).len(), 1);
+        remove_temporaries();
+        assert!(entries(&d).is_empty(), "{:?}", entries(&d));
+        drop(f); // removing again is harmless
+        assert!(!p.exists());
+    }
+
+    #[test]
+    fn directory_target_and_unwritable_places_are_refused() {
+        let d = scratch("refuse");
+        assert!(AtomicFile::create(&d).is_err());
+        assert!(check_writable(&d).is_err());
+        assert!(check_writable(Path::new("/proc/rsts-io-test/x")).is_err());
+        check_writable(&d.join("new/deeper/file.json")).unwrap();
+        assert_eq!(entries(&d.join("new/deeper")), Vec::<String>::new());
+    }
+
+    #[test]
+    fn atomic_dir_swaps_whole_directories() {
+        let d = scratch("dir");
+        let target = d.join("report");
+        fs::create_dir_all(&target).unwrap();
+        fs::write(target.join("old.json"), "1").unwrap();
+        {
+            let a = AtomicDir::create(&target).unwrap();
+            fs::write(a.staging().join("new.json"), "2").unwrap();
+            // dropped: the old report stays
+        }
+        assert_eq!(entries(&target), vec!["old.json"]);
+        assert_eq!(entries(&d), vec!["report"]);
+        let a = AtomicDir::create(&target).unwrap();
+        fs::write(a.staging().join("new.json"), "2").unwrap();
+        a.commit().unwrap();
+        assert_eq!(entries(&target), vec!["new.json"]);
+        assert_eq!(entries(&d), vec!["report"]);
+    }
+}
