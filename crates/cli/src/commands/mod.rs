@@ -4,6 +4,7 @@ pub mod bench;
 pub mod compare;
 pub mod diagram;
 pub mod explicit;
+pub mod identify;
 pub mod inspect;
 pub mod integrate;
 pub mod surfaces;
