@@ -35,7 +35,8 @@ use crate::constants::SigmaCurve;
 use crate::error::ClosedFormError;
 
 pub use describe::{
-    describe_point, PointDescription, RadicalDescription, SegmentEnd, VariableDescription,
+    describe_point, NormalDescription, PointDescription, RadicalDescription, SegmentEnd,
+    VariableDescription,
 };
 
 use draw::{camera_colour, draw_axes, draw_labels, draw_plot, fmt_px, xml_escape};
