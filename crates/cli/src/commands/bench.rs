@@ -457,6 +457,7 @@ fn read_peer(path: &Path) -> anyhow::Result<Vec<BenchRow>> {
             integration_seconds: num("integration_seconds")?,
             steps: int("steps")?,
             rhs_evals: int("rhs_evals")?,
+            wall_seconds: None,
         });
     }
     Ok(out)
