@@ -198,7 +198,30 @@ pub static ERRORS: LazyLock<String> = LazyLock::new(|| {
             "constraint_drift",
             "drift of the geometric constraints (orthonormality of Q)",
         ),
-        ("off_n", "harness-defined off-manifold measure"),
+        (
+            "off_n",
+            "drift of the on-N integral relations max(|K - r^4 m^2|, |2G - p^2 H - r^4 m|)",
+        ),
+        (
+            "distance_from_n",
+            "distance of the integrated state from its nearest point on N (state units)",
+        ),
+        (
+            "x_phi",
+            "|X_Phi| at the integrated state, Phi = r^4 K - (2G - p^2 H)^2",
+        ),
+        (
+            "along_n",
+            "distance of the nearest point on N from the exact state (drift along N)",
+        ),
+        (
+            "phase_error_psi1",
+            "psi1 of the nearest point on N minus the exact psi1 (rad)",
+        ),
+        (
+            "phase_error_psi2",
+            "psi2 of the nearest point on N minus the exact psi2 (rad)",
+        ),
     ];
     let properties: Map<String, Value> = fields
         .iter()
