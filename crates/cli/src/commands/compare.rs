@@ -88,13 +88,34 @@ impl std::fmt::Display for Interrupted {
 }
 impl std::error::Error for Interrupted {}
 
-/// Logs samples to MCAP, advances the progress bar, and watches Ctrl-C.
-struct CliObserver {
-    log: Option<TrajectoryLog>,
-    bar: ProgressBar,
+/// Logs samples to MCAP, advances the progress bar, and watches Ctrl-C (also used by `check`).
+pub(crate) struct CliObserver {
+    pub(crate) log: Option<TrajectoryLog>,
+    pub(crate) bar: ProgressBar,
     shown: bool,
     started: Instant,
     stop: Arc<AtomicBool>,
+}
+
+impl CliObserver {
+    /// An observer of `samples` samples logging to `log`, stopped by `stop`.
+    pub(crate) fn new(log: Option<TrajectoryLog>, samples: u64, stop: Arc<AtomicBool>) -> Self {
+        let bar = ProgressBar::with_draw_target(Some(samples), ProgressDrawTarget::hidden());
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{spinner} comparing [{bar:40}] {pos}/{len} samples, {elapsed} ({eta} left)",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        Self {
+            log,
+            bar,
+            shown: false,
+            started: Instant::now(),
+            stop,
+        }
+    }
 }
 
 fn body(s: &rsts_harness::StateSnapshot) -> BodyState {
@@ -145,6 +166,24 @@ impl Observer for CliObserver {
     }
 }
 
+/// Create the MCAP log `path` (its directory too) with the case and the integrator as metadata.
+pub(crate) fn open_log(
+    path: &std::path::Path,
+    case: &impl Serialize,
+    integrator: &impl Serialize,
+) -> anyhow::Result<TrajectoryLog> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("--mcap: cannot create {}", dir.display()))?;
+    }
+    let meta = Metadata::new(
+        concat!("rsts ", env!("CARGO_PKG_VERSION")),
+        case,
+        integrator,
+    )?;
+    TrajectoryLog::create(path, &meta).with_context(|| format!("--mcap {}", path.display()))
+}
+
 /// The JSON of `rsts compare`: the report plus where the log went.
 #[derive(Serialize)]
 struct Document<'a> {
@@ -185,10 +224,6 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let log = match &args.mcap {
         None => None,
         Some(path) => {
-            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir)
-                    .with_context(|| format!("--mcap: cannot create {}", dir.display()))?;
-            }
             let mut meta = serde_json::json!({
                 "method": integrator.name(),
                 "rtol": args.method.rtol,
@@ -198,11 +233,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             if let Some(command) = &args.exec {
                 meta["command"] = command.clone().into();
             }
-            let meta = Metadata::new(concat!("rsts ", env!("CARGO_PKG_VERSION")), &case, &meta)?;
-            Some(
-                TrajectoryLog::create(path, &meta)
-                    .with_context(|| format!("--mcap {}", path.display()))?,
-            )
+            Some(open_log(path, &case, &meta)?)
         }
     };
     let stop = Arc::new(AtomicBool::new(false));
@@ -217,22 +248,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             rsts_external::kill_running();
         });
     }
-    let bar =
-        ProgressBar::with_draw_target(Some(args.samples as u64), ProgressDrawTarget::hidden());
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} comparing [{bar:40}] {pos}/{len} samples, {elapsed} ({eta} left)",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
-    );
-    let mut observer = CliObserver {
-        log,
-        bar,
-        shown: false,
-        started: Instant::now(),
-        stop: stop.clone(),
-    };
+    let mut observer = CliObserver::new(log, args.samples as u64, stop.clone());
     let options = CompareOptions {
         pieces: args.pieces,
     };
@@ -258,7 +274,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 mcap: mcap.clone(),
             },
         )?,
-        Format::Table | Format::Csv => write_table(out, &args, &report)?,
+        Format::Table | Format::Csv => {
+            let c = &args.case;
+            write_table(
+                out,
+                &report,
+                &format!("0, {}", args.t_end),
+                (c.fields.a, c.fields.b, c.m, c.h, c.torus),
+            )?
+        }
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {
         writeln!(
@@ -278,7 +302,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn write_table(out: &mut dyn Write, args: &Args, r: &Report) -> anyhow::Result<()> {
+/// The report as `key: value` lines; `span` is the time interval, `case` (a, b, m, h, torus).
+pub(crate) fn write_table(
+    out: &mut dyn Write,
+    r: &Report,
+    span: &str,
+    case: (f64, f64, f64, f64, usize),
+) -> anyhow::Result<()> {
+    let (a, b, m, h, torus) = case;
     let e = |x: f64| format!("{x:.3e}");
     output::write_key_values(
         out,
@@ -286,13 +317,8 @@ fn write_table(out: &mut dyn Write, args: &Args, r: &Report) -> anyhow::Result<(
             (
                 "camera",
                 format!(
-                    "{} (a = {}, b = {}, m = {}, h = {}, torus {})",
-                    r.camera,
-                    args.case.fields.a,
-                    args.case.fields.b,
-                    args.case.m,
-                    args.case.h,
-                    args.case.torus
+                    "{} (a = {a}, b = {b}, m = {m}, h = {h}, torus {torus})",
+                    r.camera
                 ),
             ),
             (
@@ -311,9 +337,8 @@ fn write_table(out: &mut dyn Write, args: &Args, r: &Report) -> anyhow::Result<(
             (
                 "samples",
                 format!(
-                    "{} over [0, {}]{}",
+                    "{} over [{span}]{}",
                     r.samples_compared,
-                    args.t_end,
                     if r.complete { "" } else { " (interrupted)" }
                 ),
             ),
