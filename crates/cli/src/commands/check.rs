@@ -131,7 +131,7 @@ fn identify_case(
         ),
     })?;
     let relative = id.distance.relative.to_f64();
-    if !(relative <= ON_N_TOLERANCE) {
+    if relative.is_nan() || relative > ON_N_TOLERANCE {
         bail!(
             "first row: not on N of a = {a}, b = {b}: its relative distance from N is {relative:.3e} (> {ON_N_TOLERANCE:e}); give the motion with --m, --h (and --torus, --phase1, --phase2) to check it anyway"
         );
@@ -339,7 +339,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         .into());
     }
     if let Some(limit) = args.max_error {
-        if !(report.max_state_error <= limit) {
+        if report.max_state_error.is_nan() || report.max_state_error > limit {
             out.flush()?;
             return Err(Failed(format!(
                 "{}: max state error {:.3e} exceeds --max-error {limit:e}",
