@@ -24,13 +24,15 @@ use crate::output::{self, Format};
 /// Shown at the end of `rsts check --help`.
 pub const EXAMPLES: &str = "\
 Examples:
-  # a trajectory written by rsts integrate, started on the default motion (camera I+)
-  rsts reference --times 0 --format json -o out/start.json
-  rsts integrate --omega 0.3,0,0.5 --t-end 20 --samples 201 --format csv > out/traj.csv
+  # a trajectory written by rsts integrate from the start of camera V's third torus
+  # (rsts reference --m -0.7092 --h 1.5643 --torus 2 --times 0 prints that state)
+  rsts integrate --omega=-1.0788400339538464,-0.3702277283006931,0 \\
+      --alpha=-0.5266712206715436,-0.8500690709091504,0 --beta=-0.8500690709091504,0.5266712206715436,0 \\
+      --t-end 20 --samples 201 --method dopri5 --rtol 1e-9 --atol 1e-9 --format csv > out/traj.csv
   rsts check out/traj.csv
 
-  # the motion given: camera V, third torus; fail (exit 1) above an error of 1e-8
-  rsts check out/traj.csv --m -0.7092 --h 1.5643 --torus 2 --max-error 1e-8 --format json
+  # the motion given: camera V, third torus; fail (exit 1) above an error of 1e-6
+  rsts check out/traj.csv --m -0.7092 --h 1.5643 --torus 2 --max-error 1e-6 --format json
 
   # log the comparison for a viewer
   rsts check out/traj.csv --mcap out/check.mcap
