@@ -4,10 +4,9 @@
 
 use std::io::Write;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::Ordering;
 
-use anyhow::{anyhow, bail, Context};
+use anyhow::{anyhow, bail};
 use clap::Args as ClapArgs;
 use rug::Float;
 use serde::Serialize;
@@ -17,7 +16,7 @@ use rsts_dynamics::scalar::bits_for_digits;
 use rsts_harness::{Analysis, Case, Report, RunInfo, REFERENCE_GUARD_BITS};
 
 use crate::args::{finite_f64, FieldArgs};
-use crate::commands::compare::{open_log, write_table, CliObserver, Interrupted};
+use crate::commands::compare::{open_log, stop_on_ctrl_c, write_table, CliObserver, Interrupted};
 use crate::commands::validate::Failed;
 use crate::output::{self, Format};
 
@@ -245,15 +244,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             Some(open_log(path, &case, &meta)?)
         }
     };
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        let _ = ctrlc::set_handler(move || {
-            if stop.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-        });
-    }
+    let stop = stop_on_ctrl_c();
     let mut observer = CliObserver::new(log, samples.times.len() as u64, stop.clone());
     let mut start_error = None;
     let mut result = Ok(());
@@ -272,11 +263,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             }
         }
     }
-    observer.bar.finish_and_clear();
-    let log_stats = match observer.log.take() {
-        Some(log) => Some(log.finish().context("finishing the MCAP file")?),
-        None => None,
-    };
+    let log_stats = observer.finish()?;
     result?;
     let report = analysis.finish();
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());

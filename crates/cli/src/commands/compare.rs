@@ -97,7 +97,31 @@ pub(crate) struct CliObserver {
     stop: Arc<AtomicBool>,
 }
 
+/// A flag set by the first Ctrl-C (the run stops after the current piece or sample, and an
+/// external integrator is killed at once); a second Ctrl-C exits at once (an MCAP file then
+/// keeps all but its open chunk).
+pub(crate) fn stop_on_ctrl_c() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    let _ = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+        rsts_external::kill_running();
+    });
+    stop
+}
+
 impl CliObserver {
+    /// Clear the progress bar and finish the MCAP log (its statistics).
+    pub(crate) fn finish(&mut self) -> anyhow::Result<Option<rsts_mcap::LogStats>> {
+        self.bar.finish_and_clear();
+        match self.log.take() {
+            Some(log) => Ok(Some(log.finish().context("finishing the MCAP file")?)),
+            None => Ok(None),
+        }
+    }
+
     /// An observer of `samples` samples logging to `log`, stopped by `stop`.
     pub(crate) fn new(log: Option<TrajectoryLog>, samples: u64, stop: Arc<AtomicBool>) -> Self {
         let bar = ProgressBar::with_draw_target(Some(samples), ProgressDrawTarget::hidden());
@@ -236,28 +260,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             Some(open_log(path, &case, &meta)?)
         }
     };
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        // A second Ctrl-C exits at once (the MCAP file then keeps all but the open chunk).
-        let _ = ctrlc::set_handler(move || {
-            if stop.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-            // An external integrator runs in one piece: stop it now.
-            rsts_external::kill_running();
-        });
-    }
+    let stop = stop_on_ctrl_c();
     let mut observer = CliObserver::new(log, args.samples as u64, stop.clone());
     let options = CompareOptions {
         pieces: args.pieces,
     };
     let result = compare_integrator(&case, integrator, &options, &mut observer);
-    observer.bar.finish_and_clear();
-    let log_stats = match observer.log.take() {
-        Some(log) => Some(log.finish().context("finishing the MCAP file")?),
-        None => None,
-    };
+    let log_stats = observer.finish()?;
     let report = match result {
         Ok(r) => r,
         Err(e) if stop.load(Ordering::SeqCst) => {
