@@ -454,3 +454,44 @@ fn reference_writes_any_times_in_every_format() {
     }
     assert!(!Path::new("x.npy").exists());
 }
+
+/// An npy file written by numpy itself (`numpy.save`, from the CSV of `rsts integrate`) is read
+/// like the CSV. Needs numpy (scripts/install_adapters.sh scipy); skipped otherwise.
+#[test]
+fn an_npy_written_by_numpy_is_read_like_the_csv() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let python = std::env::var("RSTS_ADAPTERS_PYTHON").unwrap_or_else(|_| {
+        root.join(".venv-adapters/bin/python")
+            .to_string_lossy()
+            .into_owned()
+    });
+    let has_numpy = std::process::Command::new(&python)
+        .args(["-c", "import numpy"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has_numpy {
+        rsts_io::report_skip(
+            "an_npy_written_by_numpy_is_read_like_the_csv",
+            "numpy is not installed (scripts/install_adapters.sh scipy)",
+        );
+        return;
+    }
+    let (csv, _) = integrate(&V, &[]);
+    let csv_file = write("numpy-src.csv", csv.as_bytes());
+    let npy = tmp("numpy.npy");
+    let status = std::process::Command::new(&python)
+        .args([
+            "-c",
+            "import numpy, sys; x = numpy.loadtxt(sys.argv[1], delimiter=',', skiprows=1); numpy.save(sys.argv[2], x[:, :10])",
+            &csv_file,
+            npy.to_str().unwrap(),
+        ])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let mut a = vec!["check", csv_file.as_str()];
+    a.extend_from_slice(&V);
+    let mut b = vec!["check", npy.to_str().unwrap()];
+    b.extend_from_slice(&V);
+    same_errors(&json_of(&b), &json_of(&a));
+}
