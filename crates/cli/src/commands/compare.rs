@@ -33,6 +33,10 @@ Examples:
   # the Taylor integrator at 60 digits (the closed form is evaluated 64 bits beyond it)
   rsts compare --method taylor-mp --digits 60 --rtol 1e-55 --atol 1e-55 --t-end 20 --samples 21
 
+  # an external integrator (any program speaking rsts-integrator/1, docs/own-integrator.md)
+  cargo build --release -p example-adapter-rk4
+  rsts compare --exec target/release/example-adapter-rk4 --rtol 1e-10 --atol 1e-10 --t-end 20 --samples 201
+
 Open the MCAP file in Foxglove or Lichtblick (Open local file); see docs/mcap.md for the channels.
 Ctrl-C stops the run after the current piece and still leaves a complete, readable MCAP file.";
 
