@@ -20,7 +20,7 @@ use rsts_dynamics::scalar::bits_for_digits;
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::{Fields, Real, State};
 use rug::Float;
-use serde::Serialize;
+use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::growth::{self, Growth, Model};
 use crate::HarnessError;
@@ -195,11 +195,17 @@ impl Series {
 }
 
 /// max and final value of a series.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct MaxFinal {
+    #[serde(deserialize_with = "nan_if_null")]
     pub max: f64,
-    #[serde(rename = "final")]
+    #[serde(rename = "final", deserialize_with = "nan_if_null")]
     pub last: f64,
+}
+
+/// JSON writes a NaN as null: read it back as NaN (validate's report.json and baselines).
+fn nan_if_null<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Option::<f64>::deserialize(d).map(|x| x.unwrap_or(f64::NAN))
 }
 
 impl MaxFinal {
@@ -213,7 +219,7 @@ impl MaxFinal {
 
 /// How a series grows: "polynomial" (~t^exponent) or "exponential" (~e^{rate·t}), with both
 /// fitted numbers.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GrowthSummary {
     pub kind: Model,
     /// λ of the exponential fit (per unit time).
@@ -241,7 +247,7 @@ impl GrowthSummary {
 }
 
 /// The departure from N over a run (the `normal` object of the compare JSON).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct NormalSummary {
     /// "elliptic", "hyperbolic" or "degenerate": the normal type of N at (m, h).
     #[serde(rename = "type")]
@@ -258,7 +264,7 @@ pub struct NormalSummary {
 }
 
 /// The phase error over a run (the `phase_error` object of the compare JSON).
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct PhaseErrorSummary {
     /// |Δψ₁|, |Δψ₂| (radians): largest and at the last sample.
     pub psi1: MaxFinal,
@@ -271,12 +277,13 @@ pub struct PhaseErrorSummary {
 }
 
 /// What dominates the state error, at the last sample before it saturates.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ErrorSplit {
     /// The sample's time and its two parts: along N and the departure from N.
     pub t: f64,
+    #[serde(deserialize_with = "nan_if_null")]
     pub along_n: f64,
-    #[serde(rename = "departure_from_N")]
+    #[serde(rename = "departure_from_N", deserialize_with = "nan_if_null")]
     pub departure_from_n: f64,
     /// "drift along the torus" or "departure from N".
     pub dominant: String,
