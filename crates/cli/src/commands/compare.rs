@@ -433,7 +433,7 @@ fn geometry_lines(r: &Report) -> Vec<(&'static str, String)> {
             format!(
                 "{} (at t = {}: along N {}, off N {})",
                 s.summary,
-                s.t,
+                (s.t * 1e6).round() / 1e6,
                 e(s.along_n),
                 e(s.departure_from_n)
             ),
