@@ -10,12 +10,14 @@ use rug::Float;
 use serde::Serialize;
 use serde_json::{json, Value};
 
+use rsts_closed_form::diagram::tori_text;
 use rsts_closed_form::manifold::{distance, identify, normal_type, IdentifyError};
 use rsts_closed_form::scalar::Scalar;
 use rsts_closed_form::IntegralConstants;
 use rsts_dynamics::scalar::{bits_for_digits, F64_BITS};
 use rsts_dynamics::{Fields, Real, State};
 
+use crate::args::ExactFieldArgs;
 use crate::commands::explicit::MAX_DIGITS;
 use crate::output;
 
@@ -54,22 +56,8 @@ pub enum IdentifyFormat {
 /// Options of `rsts identify`.
 #[derive(Debug, Clone, ClapArgs)]
 pub struct Args {
-    /// Strength a of the first field; a > b > 0 (read as an exact decimal at the requested digits)
-    #[arg(
-        long,
-        value_name = "A",
-        default_value = "1",
-        allow_hyphen_values = true
-    )]
-    pub a: String,
-    /// Strength b of the second field; 0 < b < a
-    #[arg(
-        long,
-        value_name = "B",
-        default_value = "0.5",
-        allow_hyphen_values = true
-    )]
-    pub b: String,
+    #[command(flatten)]
+    pub fields: ExactFieldArgs,
     /// Angular velocity ω in the body frame
     #[arg(long, value_name = "W1,W2,W3", allow_hyphen_values = true)]
     pub omega: String,
@@ -151,8 +139,8 @@ fn run_in<T: Scalar>(
     digits: u32,
     out: &mut dyn Write,
 ) -> anyhow::Result<()> {
-    let a: T = read("a", &args.a, bits)?;
-    let b: T = read("b", &args.b, bits)?;
+    let a: T = read("a", &args.fields.a, bits)?;
+    let b: T = read("b", &args.fields.b, bits)?;
     let state = State {
         omega: read3("omega", &args.omega, bits)?,
         alpha: read3("alpha", &args.alpha, bits)?,
@@ -161,8 +149,8 @@ fn run_in<T: Scalar>(
     if !(b > b.zero_like() && a > b) {
         bail!(
             "--a/--b: need a > b > 0 (N exists only there), got a = {}, b = {}",
-            args.a,
-            args.b
+            args.fields.a,
+            args.fields.b
         );
     }
     state.validate().context("--omega/--alpha/--beta")?;
@@ -267,14 +255,6 @@ fn run_in<T: Scalar>(
         )?,
     }
     Ok(())
-}
-
-fn tori_text(n: usize) -> String {
-    if n == 1 {
-        "1 torus".to_string()
-    } else {
-        format!("{n} tori")
-    }
 }
 
 #[derive(Debug, Serialize)]

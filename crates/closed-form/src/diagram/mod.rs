@@ -62,7 +62,7 @@ fn check_fields(a: f64, b: f64) -> Result<(), ClosedFormError> {
 }
 
 /// "1 torus", "n tori" (in the picture's labels and in a point's description).
-fn tori_text(n: usize) -> String {
+pub fn tori_text(n: usize) -> String {
     if n == 1 {
         "1 torus".to_string()
     } else {
