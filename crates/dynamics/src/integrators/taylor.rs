@@ -23,13 +23,17 @@
 //! the convention of heyoka-style comparisons) plus one for the Jacobian–vector product of the
 //! compensation. No step is ever rejected.
 
+use std::any::Any;
 use std::time::Instant;
+
+use rug::Float;
 
 use crate::equations::{CauchyScratch, VectorField};
 use crate::error::DynamicsError;
 use crate::scalar::Real;
 use crate::state::{State, DIM};
 
+use super::taylor_mpfr::{MpfrKernel, MpfrKernelChoice};
 use super::{OutputGrid, Problem, Propagator, Solution, Stats, Tolerances};
 
 /// Largest Taylor order accepted (a tolerance of about 1e-170).
@@ -45,6 +49,9 @@ pub struct Taylor {
     /// Keep the state and the time as compensated sums hi + lo (default). `false`: plain
     /// summation x ← x + Σₖ xₖhᵏ, for comparison (see the tests and docs/taylor.md).
     pub compensated: bool,
+    /// The coefficient kernel in MPFR (`taylor-mp`); `None`: from the environment variable
+    /// [`MpfrKernelChoice::ENV`], default the limb-level kernel.
+    pub mpfr_kernel: Option<MpfrKernelChoice>,
 }
 
 /// Error-free (in f64 and MPFR) sum: s + e = a + b, s = fl(a + b).
@@ -92,6 +99,15 @@ impl Taylor {
         Self {
             tolerances,
             compensated: true,
+            mpfr_kernel: None,
+        }
+    }
+
+    /// The same method with the given MPFR coefficient kernel (ignored by other scalars).
+    pub fn with_mpfr_kernel(self, kernel: MpfrKernelChoice) -> Self {
+        Self {
+            mpfr_kernel: Some(kernel),
+            ..self
         }
     }
 
@@ -153,13 +169,22 @@ struct Workspace<T> {
     ints: Vec<T>,
     out: [T; DIM],
     scratch: CauchyScratch<T>,
+    /// The limb-level kernel when `T` is MPFR (`taylor_mpfr.rs`).
+    mpfr: Option<MpfrKernel>,
 }
 
 impl<T: Real> Workspace<T> {
-    fn new(field: VectorField<T>, order: usize, like: &T) -> Self {
+    fn new(field: VectorField<T>, order: usize, like: &T, kernel: MpfrKernelChoice) -> Self {
         let zero = like.zero_like();
         let row: [T; DIM] = std::array::from_fn(|_| zero.clone());
+        let mpfr = match kernel {
+            MpfrKernelChoice::Limbs => (&field as &dyn Any)
+                .downcast_ref::<VectorField<Float>>()
+                .map(|f| MpfrKernel::new(f, like.prec())),
+            MpfrKernelChoice::Generic => None,
+        };
         Self {
+            mpfr,
             field,
             order,
             series: vec![row.clone(); order + 1],
@@ -175,12 +200,23 @@ impl<T: Real> Workspace<T> {
             s.clone_from(&x.hi);
         }
         for n in 0..self.order {
-            self.field.taylor_coefficient_orders(
-                &self.series[..=n],
-                n,
-                &mut self.out,
-                &mut self.scratch,
-            );
+            match self.mpfr.as_mut() {
+                Some(kernel) => {
+                    let series = (&self.series as &dyn Any)
+                        .downcast_ref::<Vec<[Float; DIM]>>()
+                        .expect("the MPFR kernel runs on MPFR series");
+                    let out = (&mut self.out as &mut dyn Any)
+                        .downcast_mut::<[Float; DIM]>()
+                        .expect("the MPFR kernel runs on MPFR series");
+                    kernel.coefficient(&series[..=n], n, out);
+                }
+                None => self.field.taylor_coefficient_orders(
+                    &self.series[..=n],
+                    n,
+                    &mut self.out,
+                    &mut self.scratch,
+                ),
+            }
             if n == 0 {
                 // First-order effect of the low parts: f(hi + lo) ≈ f(hi) + J(hi)·lo.
                 let lo: [T; DIM] = std::array::from_fn(|i| state[i].lo.clone());
@@ -264,7 +300,11 @@ impl Taylor {
                 "initial state has a component that is not a finite number".into(),
             ));
         }
-        let mut work = Workspace::new(field, order, &like);
+        let kernel = match self.mpfr_kernel {
+            Some(k) => k,
+            None => MpfrKernelChoice::from_env().map_err(DynamicsError::Settings)?,
+        };
+        let mut work = Workspace::new(field, order, &like, kernel);
         let Tolerances { rtol, atol } = self.tolerances;
         let safety = (-0.7 / (order as f64 - 1.0)).exp() / std::f64::consts::E.powi(2);
 

@@ -1,0 +1,542 @@
+//! The MPFR Taylor kernel of `taylor-mp`: the coefficients f(x)ₙ of the Euler–Poisson right-hand
+//! side as **limb-level fixed-point dot products** with one rounding per component, derived from
+//! the same table of equations as every other kernel ([`VectorField`]'s flattened term list).
+//!
+//! Component k of f(x)ₙ is a sum of products (table of [`crate::equations::EULER_POISSON`]):
+//!
+//! ```text
+//!   f(x)ₙ,ₖ = Σ_quadratic c·Σ_{m=0..n} x_{i,m} x_{j,n−m}  +  Σ_linear c·x_{i,n}
+//! ```
+//!
+//! The generic path rounds every product and every partial sum to the working precision p
+//! (2·(n+1) roundings per Cauchy sum, ~141 ns per multiply-add at 307 bits, 14 % of it
+//! allocation). Here each term is a product of two p-bit mantissas, formed **exactly** by GMP's
+//! `mpn_mul_n` (2L limbs for L = ⌈p/64⌉), shifted to a common binary point and added into a
+//! fixed-point accumulator (`mpn_add_n`; one accumulator for the positive and one for the
+//! negative products); the component is then rounded **once** to nearest (`mpfr_set_z_2exp` on a
+//! read-only `mpz` view of the accumulator's limbs). Quadratic coefficients that are ±2ʲ (all of
+//! them in the Euler–Poisson table: ±1, ±½) only shift the binary point; a linear term c·xᵢ,ₙ is
+//! one more exact product (the coefficient's mantissa times xᵢ,ₙ's). A quadratic coefficient that
+//! is not a power of two (other tables) gets its Cauchy sum rounded once first, then enters as
+//! the exact product c·S. No allocation happens in the step loop: the operands of every order are
+//! copied once into a limb table (the gather, O(p) per step) and all buffers are sized up front.
+//!
+//! **Accuracy.** The accumulator spans all products of a component (from the top bit of the
+//! largest to the lowest bit of the smallest, plus one limb of carry room), so the result is the
+//! exact sum correctly rounded to nearest — unless the products' exponents spread over more
+//! than [`MAX_SPAN_LIMBS`]·64 bits (far beyond any Taylor series in practice), when products
+//! entirely below the accumulator are dropped and those partly below are truncated: an error
+//! below (number of products)·2^(−64·[`MAX_SPAN_LIMBS`] + 64) times the largest product, far below
+//! the rounding errors of the generic path. Zeros are skipped; a NaN or an infinity among the
+//! operands sends the call to the generic path (which propagates it). The result may differ from
+//! the generic path in the last bits (that path rounds 2(n+1) times per sum); the tests check it
+//! against the correctly rounded exact value and against the generic path's error bound.
+
+use std::mem::MaybeUninit;
+
+use gmp_mpfr_sys::gmp::{self, limb_t, mpz_t};
+use gmp_mpfr_sys::mpfr::{self, rnd_t};
+use rug::{Assign, Float};
+
+use crate::equations::{CauchyScratch, VectorField};
+use crate::state::DIM;
+
+/// Which kernel computes the Taylor coefficients of `taylor-mp`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MpfrKernelChoice {
+    /// This module's limb-level fixed-point sums (the default).
+    #[default]
+    Limbs,
+    /// The generic path of every scalar ([`VectorField::taylor_coefficient_orders`]): each
+    /// product and partial sum rounded.
+    Generic,
+}
+
+impl MpfrKernelChoice {
+    /// The environment variable that overrides the default: `limbs` or `generic`.
+    pub const ENV: &'static str = "RSTS_MPFR_KERNEL";
+
+    /// The choice from [`Self::ENV`] (unset or empty: [`Self::Limbs`]); an unknown value is an
+    /// error naming the variable.
+    pub fn from_env() -> Result<Self, String> {
+        match std::env::var(Self::ENV).unwrap_or_default().trim() {
+            "" | "limbs" => Ok(Self::Limbs),
+            "generic" => Ok(Self::Generic),
+            other => Err(format!(
+                "{} must be 'limbs' or 'generic', got '{other}'",
+                Self::ENV
+            )),
+        }
+    }
+}
+
+/// Largest span of one accumulator in limbs beyond the product width (see the module docs).
+pub const MAX_SPAN_LIMBS: usize = 64;
+
+/// An operand: (−1)^neg · M · 2^(exp − 64L), M the L limbs at `at` in the limb table (least
+/// significant first, most significant limb normalised as in MPFR). `zero`: the value 0.
+#[derive(Clone, Copy, Debug, Default)]
+struct Operand {
+    exp: i64,
+    neg: bool,
+    zero: bool,
+    at: usize,
+}
+
+/// One quadratic term whose coefficient is ±2^shift: contributes ±2^shift·Σₘ x_{i,m} x_{j,n−m}.
+#[derive(Clone, Copy, Debug)]
+struct ShiftedTerm {
+    i: usize,
+    j: usize,
+    neg: bool,
+    shift: i64,
+}
+
+/// A quadratic term with any other coefficient: its Cauchy sum S is rounded to p bits first
+/// (into sum slot `sum`), then c·S enters the component exactly. `c` is the index of the
+/// coefficient operand.
+#[derive(Clone, Copy, Debug)]
+struct ScaledTerm {
+    i: usize,
+    j: usize,
+    c: usize,
+    sum: usize,
+}
+
+/// A linear term c·x_{i,n}: one exact product (`c` indexes the coefficient operand).
+#[derive(Clone, Copy, Debug)]
+struct LinearTerm {
+    i: usize,
+    c: usize,
+}
+
+/// The terms of one component, from the table.
+#[derive(Clone, Debug, Default)]
+struct ComponentPlan {
+    shifted: Vec<ShiftedTerm>,
+    scaled: Vec<ScaledTerm>,
+    linear: Vec<LinearTerm>,
+}
+
+/// One exact product to accumulate: operands a·b (indices into `ops`), sign and shift.
+#[derive(Clone, Copy, Debug)]
+struct Product {
+    a: usize,
+    b: usize,
+    neg: bool,
+    shift: i64,
+}
+
+/// Operands: mantissas copied into one limb table, `limbs` limbs each.
+#[derive(Clone, Debug)]
+struct Operands {
+    limbs: usize,
+    ops: Vec<Operand>,
+    table: Vec<limb_t>,
+}
+
+/// Exponents beyond ±2^40 (far outside MPFR's default range) take the generic path, so sums
+/// of exponents cannot overflow.
+const MAX_EXP: i64 = 1 << 40;
+
+impl Operands {
+    fn new(limbs: usize, slots: usize) -> Self {
+        Self {
+            limbs,
+            ops: vec![Operand::default(); slots],
+            table: vec![0; slots * limbs],
+        }
+    }
+
+    /// Make room for `slots` operands.
+    fn reserve(&mut self, slots: usize) {
+        if self.ops.len() < slots {
+            self.ops.resize(slots, Operand::default());
+            self.table.resize(slots * self.limbs, 0);
+        }
+    }
+
+    /// Copy `x` into slot `slot`. False when `x` is NaN or infinite, has more limbs than the
+    /// kernel's precision or a huge exponent (the caller then takes the generic path).
+    fn set(&mut self, slot: usize, x: &Float) -> bool {
+        let l = self.limbs;
+        let at = slot * l;
+        if x.is_zero() {
+            self.ops[slot] = Operand {
+                exp: 0,
+                neg: false,
+                zero: true,
+                at,
+            };
+            return true;
+        }
+        if !x.is_normal() {
+            return false;
+        }
+        // SAFETY: a regular MPFR number has ⌈prec/64⌉ initialised limbs at `d`, most significant
+        // last, its top bit set (MPFR's documented internal representation).
+        unsafe {
+            let raw = x.as_raw();
+            let n = limbs_for((*raw).prec as u32);
+            let exp = exponent(raw);
+            if n > l || exp.abs() > MAX_EXP {
+                return false;
+            }
+            let d = std::slice::from_raw_parts((*raw).d.as_ptr(), n);
+            let dst = &mut self.table[at..at + l];
+            dst[..l - n].fill(0);
+            dst[l - n..].copy_from_slice(d);
+            self.ops[slot] = Operand {
+                exp,
+                neg: x.is_sign_negative(),
+                zero: false,
+                at,
+            };
+        }
+        true
+    }
+}
+
+/// The fixed-point accumulators (positive and negative products) and one product buffer.
+#[derive(Clone, Debug)]
+struct Accumulator {
+    pos: Vec<limb_t>,
+    neg: Vec<limb_t>,
+    prod: Vec<limb_t>,
+}
+
+impl Accumulator {
+    fn new(limbs: usize) -> Self {
+        let width = 2 * limbs + 2 + MAX_SPAN_LIMBS;
+        Self {
+            pos: vec![0; width],
+            neg: vec![0; width],
+            prod: vec![0; 2 * limbs + 1],
+        }
+    }
+
+    /// Σ over `products` of ±2^shift·a·b, exactly in fixed point, rounded once into `out`.
+    fn sum(&mut self, operands: &Operands, products: &[Product], out: &mut Float) {
+        let (ops, table) = (&operands.ops, &operands.table);
+        let limbs = operands.limbs;
+        let l = limbs as i64;
+        // Pass 1: the binary point. A product's mantissa has 2L limbs; its value is below
+        // 2^top with top = ea + eb + shift, its lowest bit has weight 2^(top − 128L).
+        let mut top_max = i64::MIN;
+        let mut bottom_min = i64::MAX;
+        for p in products {
+            let (a, b) = (&ops[p.a], &ops[p.b]);
+            if a.zero || b.zero {
+                continue;
+            }
+            let top = a.exp + b.exp + p.shift;
+            top_max = top_max.max(top);
+            bottom_min = bottom_min.min(top - 128 * l);
+        }
+        if top_max == i64::MIN {
+            out.assign(0);
+            return;
+        }
+        // Limbs: the span of all products plus one limb of carry room and one for the bit
+        // shift, at most the product width plus MAX_SPAN_LIMBS.
+        let span = ((top_max - bottom_min) as u64).div_ceil(64) as usize + 2;
+        let width = span.min(2 * limbs + 2 + MAX_SPAN_LIMBS);
+        // Weight of limb 0's lowest bit: the top limb is carry room above 2^top_max.
+        let base = top_max + 64 - 64 * width as i64;
+        self.pos[..width].fill(0);
+        self.neg[..width].fill(0);
+        let pl = 2 * limbs;
+        // Pass 2: accumulate.
+        for p in products {
+            let (a, b) = (ops[p.a], ops[p.b]);
+            if a.zero || b.zero {
+                continue;
+            }
+            let acc = if a.neg ^ b.neg ^ p.neg {
+                &mut self.neg
+            } else {
+                &mut self.pos
+            };
+            let offset = a.exp + b.exp + p.shift - 128 * l - base;
+            // SAFETY: operands lie in `table` (L limbs each); `prod` has 2L + 1 limbs; the
+            // additions stay inside `acc[..width]`: a product below 2^top_max placed at
+            // `offset` ends below limb width − 1 (the carry room).
+            unsafe {
+                let ap = table.as_ptr().add(a.at);
+                let bp = table.as_ptr().add(b.at);
+                let pp = self.prod.as_mut_ptr();
+                gmp::mpn_mul_n(pp, ap, bp, limbs as _);
+                let (start, len) = if offset >= 0 {
+                    let bits = (offset % 64) as u32;
+                    *pp.add(pl) = if bits == 0 {
+                        0
+                    } else {
+                        gmp::mpn_lshift(pp, pp, pl as _, bits)
+                    };
+                    ((offset / 64) as usize, pl + 1)
+                } else {
+                    // Below the accumulator (span over MAX_SPAN_LIMBS): truncate.
+                    let drop = (-offset) as u64;
+                    if drop >= 64 * pl as u64 {
+                        continue;
+                    }
+                    let (whole, bits) = ((drop / 64) as usize, (drop % 64) as u32);
+                    let rest = pl - whole;
+                    if bits > 0 {
+                        gmp::mpn_rshift(pp, pp.add(whole), rest as _, bits);
+                    } else {
+                        gmp::mpn_copyi(pp, pp.add(whole), rest as _);
+                    }
+                    (0, rest)
+                };
+                let dst = acc.as_mut_ptr().add(start);
+                let mut carry = gmp::mpn_add_n(dst, dst, pp, len as _);
+                let mut k = start + len;
+                while carry != 0 && k < width {
+                    let (s, c) = acc[k].overflowing_add(1);
+                    acc[k] = s;
+                    carry = c as limb_t;
+                    k += 1;
+                }
+            }
+        }
+        // pos − neg, rounded once.
+        let w = width as gmp::size_t;
+        // SAFETY: both accumulators have at least `width` limbs; `z` is a read-only view of
+        // `pos`, initialised by mpz_roinit_n and used only while `pos` is alive and unchanged.
+        unsafe {
+            let (pp, np) = (self.pos.as_mut_ptr(), self.neg.as_mut_ptr());
+            let negative = gmp::mpn_cmp(pp, np, w) < 0;
+            if negative {
+                gmp::mpn_sub_n(pp, np, pp, w);
+            } else {
+                gmp::mpn_sub_n(pp, pp, np, w);
+            }
+            let mut z = MaybeUninit::<mpz_t>::uninit();
+            let size = if negative { -w } else { w };
+            let zp = gmp::mpz_roinit_n(z.as_mut_ptr(), pp, size);
+            mpfr::set_z_2exp(out.as_raw_mut(), zp, base as mpfr::exp_t, rnd_t::RNDN);
+        }
+    }
+}
+
+/// The limb-level MPFR kernel for one vector field at one precision (see the module docs).
+/// Build it once per run with [`MpfrKernel::new`], then call
+/// [`coefficient`](MpfrKernel::coefficient) for n = 0, 1, … of each step.
+#[derive(Clone, Debug)]
+pub struct MpfrKernel {
+    /// Working precision in bits.
+    bits: u32,
+    plans: [ComponentPlan; DIM],
+    /// The constant operands (coefficients, then one slot per scaled term's rounded sum),
+    /// then `DIM` per gathered order.
+    operands: Operands,
+    /// Number of constant operands.
+    constants: usize,
+    /// First slot of the scaled terms' sums.
+    first_sum: usize,
+    /// Orders gathered from the current series.
+    rows: usize,
+    /// All coefficients are finite (else every call takes the generic path).
+    usable: bool,
+    /// Products of the sum being formed (reused).
+    products: Vec<Product>,
+    acc: Accumulator,
+    /// Rounded Cauchy sums of the scaled terms (working precision).
+    sums: Vec<Float>,
+    /// The generic path, for non-finite operands.
+    generic: CauchyScratch<Float>,
+    field: VectorField<Float>,
+}
+
+/// The exponent field of a regular MPFR number (a `c_long`: 32 bits on some targets).
+///
+/// # Safety
+/// `raw` points to an initialised `mpfr_t`.
+#[allow(clippy::unnecessary_cast)]
+unsafe fn exponent(raw: *const mpfr::mpfr_t) -> i64 {
+    (*raw).exp as i64
+}
+
+/// Limbs of a `bits`-bit MPFR mantissa.
+fn limbs_for(bits: u32) -> usize {
+    (bits as usize).div_ceil(64)
+}
+
+/// Whether `x` is ±2^k (a regular number with a one-bit mantissa): `Some((negative, k))`.
+fn power_of_two(x: &Float) -> Option<(bool, i64)> {
+    if !x.is_normal() {
+        return None;
+    }
+    // SAFETY: `x` is a regular MPFR number: its mantissa has ⌈prec/64⌉ initialised limbs.
+    unsafe {
+        let raw = x.as_raw();
+        let n = limbs_for((*raw).prec as u32);
+        let d = std::slice::from_raw_parts((*raw).d.as_ptr(), n);
+        let one_bit = d[n - 1] == 1 << 63 && d[..n - 1].iter().all(|&l| l == 0);
+        // Value 0.1₂ · 2^exp = 2^(exp − 1).
+        one_bit.then(|| (x.is_sign_negative(), exponent(raw) - 1))
+    }
+}
+
+impl MpfrKernel {
+    /// The kernel for `field` at `bits` bits (the precision of the series it will be given).
+    pub fn new(field: &VectorField<Float>, bits: u32) -> Self {
+        let limbs = limbs_for(bits);
+        let mut plans: [ComponentPlan; DIM] = Default::default();
+        let mut coefficients: Vec<&Float> = Vec::new();
+        let (quad, lin) = field.flat_terms();
+        let mut scaled = 0;
+        for (c, i, j, k) in quad {
+            if c.is_zero() {
+                continue;
+            }
+            match power_of_two(c) {
+                Some((neg, shift)) => plans[*k].shifted.push(ShiftedTerm {
+                    i: *i,
+                    j: *j,
+                    neg,
+                    shift,
+                }),
+                None => {
+                    coefficients.push(c);
+                    plans[*k].scaled.push(ScaledTerm {
+                        i: *i,
+                        j: *j,
+                        c: coefficients.len() - 1,
+                        sum: scaled,
+                    });
+                    scaled += 1;
+                }
+            }
+        }
+        for (c, i, k) in lin {
+            if c.is_zero() {
+                continue;
+            }
+            coefficients.push(c);
+            plans[*k].linear.push(LinearTerm {
+                i: *i,
+                c: coefficients.len() - 1,
+            });
+        }
+        let first_sum = coefficients.len();
+        let constants = first_sum + scaled;
+        let mut operands = Operands::new(limbs, constants);
+        let mut finite = true;
+        for (slot, c) in coefficients.iter().enumerate() {
+            finite &= operands.set(slot, c);
+        }
+        Self {
+            bits,
+            plans,
+            operands,
+            constants,
+            first_sum,
+            rows: 0,
+            // A coefficient that cannot be an operand (non-finite) sends every call to the
+            // generic path.
+            usable: finite,
+            products: Vec::new(),
+            acc: Accumulator::new(limbs),
+            sums: vec![Float::new(bits); scaled],
+            generic: CauchyScratch::new(&Float::new(bits)),
+            field: field.clone(),
+        }
+    }
+
+    /// Working precision in bits.
+    pub fn bits(&self) -> u32 {
+        self.bits
+    }
+
+    /// Slot of x_{i,m} in the operand table.
+    fn slot(&self, m: usize, i: usize) -> usize {
+        self.constants + m * DIM + i
+    }
+
+    /// Gather order `m` of the series into the operand table. False: a value that cannot be an
+    /// operand (non-finite).
+    fn gather(&mut self, m: usize, row: &[Float; DIM]) -> bool {
+        let first = self.slot(m, 0);
+        self.operands.reserve(first + DIM);
+        let mut ok = true;
+        for (i, x) in row.iter().enumerate() {
+            ok &= self.operands.set(first + i, x);
+        }
+        ok
+    }
+
+    /// Coefficient `n` of f(x(t)) from the series stored order by order (`series[m][i]` = x_{i,m},
+    /// `series[..=n]` read) into `out`, each component rounded once to the precision of `out`.
+    /// Between the calls for 0, 1, …, n of one recursion only row `series[n]` may be new (the
+    /// rows gathered by earlier calls are reused; a call for 0 or out of sequence regathers).
+    pub fn coefficient(&mut self, series: &[[Float; DIM]], n: usize, out: &mut [Float; DIM]) {
+        let series = &series[..=n];
+        let mut finite = self.usable;
+        if n == 0 || self.rows != n {
+            for (m, row) in series[..n].iter().enumerate() {
+                finite &= self.gather(m, row);
+            }
+        }
+        finite &= self.gather(n, &series[n]);
+        if !finite {
+            self.rows = 0;
+            self.field
+                .taylor_coefficient_orders(series, n, out, &mut self.generic);
+            return;
+        }
+        self.rows = n + 1;
+        for (k, o) in out.iter_mut().enumerate() {
+            self.component(k, n, o);
+        }
+    }
+
+    /// Component k of f(x)ₙ into `out` (one rounding; one more per scaled term).
+    fn component(&mut self, k: usize, n: usize, out: &mut Float) {
+        let constants = self.constants;
+        let slot = |m: usize, i: usize| constants + m * DIM + i;
+        // Scaled terms first: S rounded once, then c·S is an exact product like the others.
+        for term in &self.plans[k].scaled {
+            self.products.clear();
+            self.products.extend((0..=n).map(|m| Product {
+                a: slot(m, term.i),
+                b: slot(n - m, term.j),
+                neg: false,
+                shift: 0,
+            }));
+            let sum = &mut self.sums[term.sum];
+            self.acc.sum(&self.operands, &self.products, sum);
+            // A finite sum of finite products (or an overflow to ∞, then the generic path
+            // would give ∞ too and the integrator stops on it).
+            self.operands.set(self.first_sum + term.sum, sum);
+        }
+        self.products.clear();
+        let plan = &self.plans[k];
+        for term in &plan.scaled {
+            self.products.push(Product {
+                a: term.c,
+                b: self.first_sum + term.sum,
+                neg: false,
+                shift: 0,
+            });
+        }
+        for term in &plan.shifted {
+            self.products.extend((0..=n).map(|m| Product {
+                a: slot(m, term.i),
+                b: slot(n - m, term.j),
+                neg: term.neg,
+                shift: term.shift,
+            }));
+        }
+        for term in &plan.linear {
+            self.products.push(Product {
+                a: term.c,
+                b: slot(n, term.i),
+                neg: false,
+                shift: 0,
+            });
+        }
+        self.acc.sum(&self.operands, &self.products, out);
+    }
+}
