@@ -79,6 +79,10 @@ pub trait Real:
     fn abs(&self) -> Self;
     fn sin(&self) -> Self;
     fn cos(&self) -> Self;
+    /// (sin, cos) together (one call in MPFR, which shares the argument reduction).
+    fn sin_cos(&self) -> (Self, Self) {
+        (self.sin(), self.cos())
+    }
     fn atan2(&self, x: &Self) -> Self;
     fn exp(&self) -> Self;
     fn ln(&self) -> Self;
@@ -207,6 +211,9 @@ impl Real for Float {
     }
     fn cos(&self) -> Self {
         self.clone().cos()
+    }
+    fn sin_cos(&self) -> (Self, Self) {
+        self.clone().sin_cos(Float::new(self.prec()))
     }
     fn atan2(&self, x: &Self) -> Self {
         self.clone().atan2(x)
