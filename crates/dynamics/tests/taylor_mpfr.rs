@@ -1,4 +1,4 @@
-//! The limb-level MPFR kernel of taylor-mp (`integrators/taylor_mpfr.rs`) against an independent
+//! The limb-level MPFR kernel of taylor-mp (`integrators/taylor/mp.rs`) against an independent
 //! exact evaluation of the table and against the generic MPFR path, on random series: random
 //! orders, precisions of 1 to 16 limbs (odd limb counts and precisions that are not multiples
 //! of 64 included), negative values, zeros, exponents spread from a few bits (Taylor-like decay)

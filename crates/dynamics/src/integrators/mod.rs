@@ -10,13 +10,11 @@ mod dopri5;
 mod ode_solvers_adapter;
 mod rk4;
 mod taylor;
-mod taylor_mpfr;
 
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use rk4::Rk4;
-pub use taylor::{Taylor, MAX_ORDER as TAYLOR_MAX_ORDER};
-pub use taylor_mpfr::{MpfrKernel, MpfrKernelChoice};
+pub use taylor::{MpfrKernel, MpfrKernelChoice, Taylor, MAX_ORDER as TAYLOR_MAX_ORDER};
 
 use std::fmt;
 use std::str::FromStr;
