@@ -476,3 +476,16 @@ fn cancellation_leaves_a_tiny_exact_term() {
         }
     }
 }
+
+/// taylor-mp picks the limb kernel up to MAX_DEFAULT_LIMBS limbs of precision (where it is
+/// faster, docs/benchmarks.md) and the generic path beyond.
+#[test]
+fn default_kernel_up_to_the_measured_crossover() {
+    use rsts_dynamics::integrators::MPFR_MAX_DEFAULT_LIMBS as MAX;
+    let (narrow, _) = fields(64, 128);
+    let field = VectorField::new(&narrow);
+    let widest = 64 * MAX as u32;
+    assert!(MpfrKernel::by_default(&field, widest).is_some());
+    assert!(MpfrKernel::by_default(&field, widest + 1).is_none());
+    assert!(MpfrKernel::by_default(&field, 53).is_some());
+}

@@ -14,7 +14,9 @@ mod taylor;
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use rk4::Rk4;
-pub use taylor::{MpfrKernel, MpfrKernelChoice, Taylor, MAX_ORDER as TAYLOR_MAX_ORDER};
+pub use taylor::{
+    MpfrKernel, MpfrKernelChoice, Taylor, MAX_ORDER as TAYLOR_MAX_ORDER, MPFR_MAX_DEFAULT_LIMBS,
+};
 
 use std::fmt;
 use std::str::FromStr;

@@ -74,7 +74,7 @@ impl<T: Real> Workspace<T> {
         let mpfr = match kernel {
             MpfrKernelChoice::Limbs => (&field as &dyn Any)
                 .downcast_ref::<VectorField<Float>>()
-                .map(|f| MpfrKernel::new(f, like.prec())),
+                .and_then(|f| MpfrKernel::by_default(f, like.prec())),
             MpfrKernelChoice::Generic => None,
         };
         Self {

@@ -31,7 +31,7 @@
 mod generic;
 mod mp;
 
-pub use mp::{MpfrKernel, MpfrKernelChoice};
+pub use mp::{MpfrKernel, MpfrKernelChoice, MAX_DEFAULT_LIMBS as MPFR_MAX_DEFAULT_LIMBS};
 
 use crate::equations::VectorField;
 use crate::error::DynamicsError;

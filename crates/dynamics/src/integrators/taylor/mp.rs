@@ -44,7 +44,8 @@ use crate::state::DIM;
 /// Which kernel computes the Taylor coefficients of `taylor-mp`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum MpfrKernelChoice {
-    /// This module's limb-level fixed-point sums (the default).
+    /// This module's limb-level fixed-point sums (the default, up to [`MAX_DEFAULT_LIMBS`]
+    /// limbs of precision; the generic path beyond).
     #[default]
     Limbs,
     /// The generic path of every scalar ([`VectorField::taylor_coefficient_orders`]): each
@@ -69,6 +70,13 @@ impl MpfrKernelChoice {
         }
     }
 }
+
+/// Widest mantissa (in limbs) for which taylor-mp picks this kernel by default: up to 14 limbs
+/// (896 bits, ~267 digits). Beyond, the products' O(L²) limb multiplications dominate both
+/// paths and MPFR's own rounded products are as fast (measured with
+/// `cargo bench -p rsts-dynamics --bench mpfr_kernel`: 3.2× faster at 5 limbs, 1.6× at 8,
+/// 1.4× at 11, 0.94× at 16; docs/benchmarks.md).
+pub const MAX_DEFAULT_LIMBS: usize = 14;
 
 /// Largest span of one accumulator in limbs beyond the product width (see the module docs).
 pub const MAX_SPAN_LIMBS: usize = 64;
@@ -448,6 +456,12 @@ impl MpfrKernel {
     /// Working precision in bits.
     pub fn bits(&self) -> u32 {
         self.bits
+    }
+
+    /// The kernel taylor-mp uses by default at `bits` bits: this one up to
+    /// [`MAX_DEFAULT_LIMBS`] limbs, `None` (the generic path) beyond.
+    pub fn by_default(field: &VectorField<Float>, bits: u32) -> Option<Self> {
+        (limbs_for(bits) <= MAX_DEFAULT_LIMBS).then(|| Self::new(field, bits))
     }
 
     /// Slot of x_{i,m} in the operand table.
