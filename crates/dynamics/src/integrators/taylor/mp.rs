@@ -126,13 +126,48 @@ struct ComponentPlan {
     linear: Vec<LinearTerm>,
 }
 
-/// One exact product to accumulate: operands a·b (indices into `ops`), sign and shift.
+/// One non-zero exact product to accumulate: the mantissas at `a` and `b` in the limb table,
+/// its sign, and `top` = ea + eb + shift (the product is below 2^top).
 #[derive(Clone, Copy, Debug)]
 struct Product {
     a: usize,
     b: usize,
+    top: i64,
     neg: bool,
-    shift: i64,
+}
+
+/// The products of one sum, collected with the extremes of their exponents.
+#[derive(Clone, Debug, Default)]
+struct Products {
+    list: Vec<Product>,
+    top_max: i64,
+    top_min: i64,
+}
+
+impl Products {
+    fn clear(&mut self) {
+        self.list.clear();
+        self.top_max = i64::MIN;
+        self.top_min = i64::MAX;
+    }
+
+    /// Add ±2^shift·(operand a)·(operand b) unless one factor is zero.
+    #[inline(always)]
+    fn push(&mut self, ops: &[Operand], a: usize, b: usize, neg: bool, shift: i64) {
+        let (a, b) = (&ops[a], &ops[b]);
+        if a.zero || b.zero {
+            return;
+        }
+        let top = a.exp + b.exp + shift;
+        self.top_max = self.top_max.max(top);
+        self.top_min = self.top_min.min(top);
+        self.list.push(Product {
+            a: a.at,
+            b: b.at,
+            top,
+            neg: a.neg ^ b.neg ^ neg,
+        });
+    }
 }
 
 /// Operands: mantissas copied into one limb table, `limbs` limbs each.
@@ -223,55 +258,37 @@ impl Accumulator {
         }
     }
 
-    /// Σ over `products` of ±2^shift·a·b, exactly in fixed point, rounded once into `out`.
-    fn sum(&mut self, operands: &Operands, products: &[Product], out: &mut Float) {
-        let (ops, table) = (&operands.ops, &operands.table);
+    /// Σ over `products` of ±a·b (shifts folded in), exactly in fixed point, rounded once into
+    /// `out`.
+    fn sum(&mut self, operands: &Operands, products: &Products, out: &mut Float) {
+        let table = &operands.table;
         let limbs = operands.limbs;
         let l = limbs as i64;
-        // Pass 1: the binary point. A product's mantissa has 2L limbs; its value is below
-        // 2^top with top = ea + eb + shift, its lowest bit has weight 2^(top − 128L).
-        let mut top_max = i64::MIN;
-        let mut bottom_min = i64::MAX;
-        for p in products {
-            let (a, b) = (&ops[p.a], &ops[p.b]);
-            if a.zero || b.zero {
-                continue;
-            }
-            let top = a.exp + b.exp + p.shift;
-            top_max = top_max.max(top);
-            bottom_min = bottom_min.min(top - 128 * l);
-        }
-        if top_max == i64::MIN {
+        if products.list.is_empty() {
             out.assign(0);
             return;
         }
-        // Limbs: the span of all products plus one limb of carry room and one for the bit
-        // shift, at most the product width plus MAX_SPAN_LIMBS.
-        let span = ((top_max - bottom_min) as u64).div_ceil(64) as usize + 2;
+        // The binary point. A product's mantissa has 2L limbs; its value is below 2^top, its
+        // lowest bit has weight 2^(top − 128L). Limbs: the span of all products plus one limb
+        // of carry room and one for the bit shift, at most the product width plus
+        // MAX_SPAN_LIMBS.
+        let (top_max, top_min) = (products.top_max, products.top_min);
+        let span = ((top_max - top_min + 128 * l) as u64).div_ceil(64) as usize + 2;
         let width = span.min(2 * limbs + 2 + MAX_SPAN_LIMBS);
         // Weight of limb 0's lowest bit: the top limb is carry room above 2^top_max.
         let base = top_max + 64 - 64 * width as i64;
         self.pos[..width].fill(0);
         self.neg[..width].fill(0);
         let pl = 2 * limbs;
-        // Pass 2: accumulate.
-        for p in products {
-            let (a, b) = (ops[p.a], ops[p.b]);
-            if a.zero || b.zero {
-                continue;
-            }
-            let acc = if a.neg ^ b.neg ^ p.neg {
-                &mut self.neg
-            } else {
-                &mut self.pos
-            };
-            let offset = a.exp + b.exp + p.shift - 128 * l - base;
+        for p in &products.list {
+            let acc = if p.neg { &mut self.neg } else { &mut self.pos };
+            let offset = p.top - 128 * l - base;
             // SAFETY: operands lie in `table` (L limbs each); `prod` has 2L + 1 limbs; the
             // additions stay inside `acc[..width]`: a product below 2^top_max placed at
             // `offset` ends below limb width − 1 (the carry room).
             unsafe {
-                let ap = table.as_ptr().add(a.at);
-                let bp = table.as_ptr().add(b.at);
+                let ap = table.as_ptr().add(p.a);
+                let bp = table.as_ptr().add(p.b);
                 let pp = self.prod.as_mut_ptr();
                 gmp::mpn_mul_n(pp, ap, bp, limbs as _);
                 let (start, len) = if offset >= 0 {
@@ -348,7 +365,7 @@ pub struct MpfrKernel {
     /// All coefficients are finite (else every call takes the generic path).
     usable: bool,
     /// Products of the sum being formed (reused).
-    products: Vec<Product>,
+    products: Products,
     acc: Accumulator,
     /// Rounded Cauchy sums of the scaled terms (working precision).
     sums: Vec<Float>,
@@ -445,7 +462,7 @@ impl MpfrKernel {
             // A coefficient that cannot be an operand (non-finite) sends every call to the
             // generic path.
             usable: finite,
-            products: Vec::new(),
+            products: Products::default(),
             acc: Accumulator::new(limbs),
             sums: vec![Float::new(bits); scaled],
             generic: CauchyScratch::new(&Float::new(bits)),
@@ -512,44 +529,41 @@ impl MpfrKernel {
         let slot = |m: usize, i: usize| constants + m * DIM + i;
         // Scaled terms first: S rounded once, then c·S is an exact product like the others.
         for term in &self.plans[k].scaled {
-            self.products.clear();
-            self.products.extend((0..=n).map(|m| Product {
-                a: slot(m, term.i),
-                b: slot(n - m, term.j),
-                neg: false,
-                shift: 0,
-            }));
+            let products = &mut self.products;
+            products.clear();
+            for m in 0..=n {
+                products.push(
+                    &self.operands.ops,
+                    slot(m, term.i),
+                    slot(n - m, term.j),
+                    false,
+                    0,
+                );
+            }
             let sum = &mut self.sums[term.sum];
             self.acc.sum(&self.operands, &self.products, sum);
             // A finite sum of finite products (or an overflow to ∞, then the generic path
             // would give ∞ too and the integrator stops on it).
             self.operands.set(self.first_sum + term.sum, sum);
         }
-        self.products.clear();
-        let plan = &self.plans[k];
+        let (plan, ops, products) = (&self.plans[k], &self.operands.ops, &mut self.products);
+        products.clear();
         for term in &plan.scaled {
-            self.products.push(Product {
-                a: term.c,
-                b: self.first_sum + term.sum,
-                neg: false,
-                shift: 0,
-            });
+            products.push(ops, term.c, self.first_sum + term.sum, false, 0);
         }
         for term in &plan.shifted {
-            self.products.extend((0..=n).map(|m| Product {
-                a: slot(m, term.i),
-                b: slot(n - m, term.j),
-                neg: term.neg,
-                shift: term.shift,
-            }));
+            for m in 0..=n {
+                products.push(
+                    ops,
+                    slot(m, term.i),
+                    slot(n - m, term.j),
+                    term.neg,
+                    term.shift,
+                );
+            }
         }
         for term in &plan.linear {
-            self.products.push(Product {
-                a: term.c,
-                b: slot(n, term.i),
-                neg: false,
-                shift: 0,
-            });
+            products.push(ops, term.c, slot(n, term.i), false, 0);
         }
         self.acc.sum(&self.operands, &self.products, out);
     }
