@@ -170,12 +170,27 @@ impl Products {
     }
 }
 
-/// Operands: mantissas copied into one limb table, `limbs` limbs each.
+/// Operands: mantissas copied into one limb table, `limbs` limbs each, each shifted right by
+/// up to `grain` − 1 bits into the spare low bits of its last limb so that its exponent is a
+/// multiple of `grain` (a power of two, at most 64): then every product's binary point is a
+/// multiple of `grain` too, and the accumulator needs only 64/`grain` bit phases.
 #[derive(Clone, Debug)]
 struct Operands {
     limbs: usize,
+    grain: i64,
     ops: Vec<Operand>,
     table: Vec<limb_t>,
+}
+
+/// The largest power of two g ≤ 64 with g − 1 ≤ 64·limbs − bits (the spare low bits of a
+/// `bits`-bit mantissa in `limbs` limbs).
+fn grain_for(bits: u32) -> i64 {
+    let spare = 64 * limbs_for(bits) as i64 - i64::from(bits);
+    let mut g = 1;
+    while g < 64 && 2 * g - 1 <= spare {
+        g *= 2;
+    }
+    g
 }
 
 /// Exponents beyond ±2^40 (far outside MPFR's default range) take the generic path, so sums
@@ -183,9 +198,11 @@ struct Operands {
 const MAX_EXP: i64 = 1 << 40;
 
 impl Operands {
-    fn new(limbs: usize, slots: usize) -> Self {
+    fn new(bits: u32, slots: usize) -> Self {
+        let limbs = limbs_for(bits);
         Self {
             limbs,
+            grain: grain_for(bits),
             ops: vec![Operand::default(); slots],
             table: vec![0; slots * limbs],
         }
@@ -199,8 +216,10 @@ impl Operands {
         }
     }
 
-    /// Copy `x` into slot `slot`. False when `x` is NaN or infinite, has more limbs than the
-    /// kernel's precision or a huge exponent (the caller then takes the generic path).
+    /// Copy `x` into slot `slot`, aligned to the grain. False when `x` is NaN or infinite, has
+    /// more limbs than the kernel's precision, low bits the alignment would lose (more bits
+    /// than the kernel's precision) or a huge exponent (the caller then takes the generic
+    /// path).
     fn set(&mut self, slot: usize, x: &Float) -> bool {
         let l = self.limbs;
         let at = slot * l;
@@ -229,8 +248,17 @@ impl Operands {
             let dst = &mut self.table[at..at + l];
             dst[..l - n].fill(0);
             dst[l - n..].copy_from_slice(d);
+            // Exponent up to the next multiple of the grain, mantissa down by as many bits.
+            let shift = exp.rem_euclid(self.grain);
+            let shift = if shift == 0 { 0 } else { self.grain - shift };
+            if shift > 0 {
+                if dst[0] & ((1 << shift) - 1) != 0 {
+                    return false;
+                }
+                gmp::mpn_rshift(dst.as_mut_ptr(), dst.as_ptr(), l as _, shift as u32);
+            }
             self.ops[slot] = Operand {
-                exp,
+                exp: exp + shift,
                 neg: x.is_sign_negative(),
                 zero: false,
                 at,
@@ -240,20 +268,65 @@ impl Operands {
     }
 }
 
-/// The fixed-point accumulators (positive and negative products) and one product buffer.
+/// The smallest grain for which products go into phase accumulators (else each product is
+/// shifted into place).
+const MIN_PHASED_GRAIN: i64 = 8;
+
+/// The fixed-point accumulator, in two's complement modulo 2^(64·width): positive products are
+/// added, negative ones subtracted. When the operands are aligned to a grain of at least
+/// [`MIN_PHASED_GRAIN`] bits, it is split into bit phases: a product whose binary point is
+/// 64q + r goes unshifted into phase r at limb q, and each phase used is shifted once when
+/// the sum is complete (products of aligned operands fall into 64/grain phases, times the few
+/// distinct residues of the coefficients ±2ʲ). Otherwise (precisions that fill their last
+/// limb) each product is shifted into place.
 #[derive(Clone, Debug)]
 struct Accumulator {
-    pos: Vec<limb_t>,
-    neg: Vec<limb_t>,
+    /// Limbs per accumulator (the widest a sum may need).
+    cap: usize,
+    /// One accumulator per phase, `cap` limbs each, and the total.
+    phases: Vec<limb_t>,
+    total: Vec<limb_t>,
     prod: Vec<limb_t>,
+}
+
+/// acc[start..] ±= p with the carry or borrow propagated through `acc` (modulo 2^(64·len)).
+///
+/// # Safety
+/// `p` points to `len` ≥ 1 limbs not inside `acc`; start + len ≤ acc.len().
+#[inline(always)]
+unsafe fn add_or_sub(acc: &mut [limb_t], start: usize, p: *const limb_t, len: usize, neg: bool) {
+    let end = start + len;
+    let dst = acc[start..end].as_mut_ptr();
+    if neg {
+        let mut borrow = gmp::mpn_sub_n(dst, dst, p, len as _);
+        for a in &mut acc[end..] {
+            if borrow == 0 {
+                break;
+            }
+            let (d, b) = a.overflowing_sub(1);
+            *a = d;
+            borrow = limb_t::from(b);
+        }
+    } else {
+        let mut carry = gmp::mpn_add_n(dst, dst, p, len as _);
+        for a in &mut acc[end..] {
+            if carry == 0 {
+                break;
+            }
+            let (s, c) = a.overflowing_add(1);
+            *a = s;
+            carry = limb_t::from(c);
+        }
+    }
 }
 
 impl Accumulator {
     fn new(limbs: usize) -> Self {
-        let width = 2 * limbs + 2 + MAX_SPAN_LIMBS;
+        let cap = 2 * limbs + 2 + MAX_SPAN_LIMBS;
         Self {
-            pos: vec![0; width],
-            neg: vec![0; width],
+            cap,
+            phases: vec![0; 64 * cap],
+            total: vec![0; cap],
             prod: vec![0; 2 * limbs + 1],
         }
     }
@@ -270,37 +343,55 @@ impl Accumulator {
         }
         // The binary point. A product's mantissa has 2L limbs; its value is below 2^top, its
         // lowest bit has weight 2^(top − 128L). Limbs: the span of all products plus one limb
-        // of carry room and one for the bit shift, at most the product width plus
+        // of carry (and sign) room and one for the bit shift, at most the product width plus
         // MAX_SPAN_LIMBS.
         let (top_max, top_min) = (products.top_max, products.top_min);
         let span = ((top_max - top_min + 128 * l) as u64).div_ceil(64) as usize + 2;
-        let width = span.min(2 * limbs + 2 + MAX_SPAN_LIMBS);
+        let width = span.min(self.cap);
         // Weight of limb 0's lowest bit: the top limb is carry room above 2^top_max.
         let base = top_max + 64 - 64 * width as i64;
-        self.pos[..width].fill(0);
-        self.neg[..width].fill(0);
         let pl = 2 * limbs;
+        let phased = operands.grain >= MIN_PHASED_GRAIN;
+        let cap = self.cap;
+        let mut used: u64 = 0;
+        if !phased {
+            self.total[..width].fill(0);
+        }
         for p in &products.list {
-            let acc = if p.neg { &mut self.neg } else { &mut self.pos };
             let offset = p.top - 128 * l - base;
-            // SAFETY: operands lie in `table` (L limbs each); `prod` has 2L + 1 limbs; the
-            // additions stay inside `acc[..width]`: a product below 2^top_max placed at
-            // `offset` ends below limb width − 1 (the carry room).
+            // SAFETY: operands lie in `table` (L limbs each); `prod` has 2L + 1 limbs; a
+            // product below 2^top_max placed at `offset` ends below limb width − 1 (the carry
+            // room), so every write stays inside the accumulator's `width` limbs.
             unsafe {
-                let ap = table.as_ptr().add(p.a);
-                let bp = table.as_ptr().add(p.b);
                 let pp = self.prod.as_mut_ptr();
-                gmp::mpn_mul_n(pp, ap, bp, limbs as _);
-                let (start, len) = if offset >= 0 {
-                    let bits = (offset % 64) as u32;
-                    *pp.add(pl) = if bits == 0 {
-                        0
+                gmp::mpn_mul_n(
+                    pp,
+                    table.as_ptr().add(p.a),
+                    table.as_ptr().add(p.b),
+                    limbs as _,
+                );
+                let (acc, start, len) = if offset >= 0 {
+                    let start = (offset / 64) as usize;
+                    let bits = offset % 64;
+                    if phased {
+                        let phase = bits as usize;
+                        let acc = &mut self.phases[phase * cap..phase * cap + width];
+                        if used & (1 << phase) == 0 {
+                            used |= 1 << phase;
+                            acc.fill(0);
+                        }
+                        (acc, start, pl)
                     } else {
-                        gmp::mpn_lshift(pp, pp, pl as _, bits)
-                    };
-                    ((offset / 64) as usize, pl + 1)
+                        *pp.add(pl) = if bits == 0 {
+                            0
+                        } else {
+                            gmp::mpn_lshift(pp, pp, pl as _, bits as u32)
+                        };
+                        (&mut self.total[..width], start, pl + 1)
+                    }
                 } else {
-                    // Below the accumulator (span over MAX_SPAN_LIMBS): truncate.
+                    // Below the accumulator (span over MAX_SPAN_LIMBS): truncated, into
+                    // phase 0 (or the total).
                     let drop = (-offset) as u64;
                     if drop >= 64 * pl as u64 {
                         continue;
@@ -312,34 +403,46 @@ impl Accumulator {
                     } else {
                         gmp::mpn_copyi(pp, pp.add(whole), rest as _);
                     }
-                    (0, rest)
+                    let acc = if phased {
+                        let acc = &mut self.phases[..width];
+                        if used & 1 == 0 {
+                            used |= 1;
+                            acc.fill(0);
+                        }
+                        acc
+                    } else {
+                        &mut self.total[..width]
+                    };
+                    (acc, 0, rest)
                 };
-                let dst = acc.as_mut_ptr().add(start);
-                let mut carry = gmp::mpn_add_n(dst, dst, pp, len as _);
-                let mut k = start + len;
-                while carry != 0 && k < width {
-                    let (s, c) = acc[k].overflowing_add(1);
-                    acc[k] = s;
-                    carry = c as limb_t;
-                    k += 1;
-                }
+                add_or_sub(acc, start, pp, len, p.neg);
             }
         }
-        // pos − neg, rounded once.
         let w = width as gmp::size_t;
-        // SAFETY: both accumulators have at least `width` limbs; `z` is a read-only view of
-        // `pos`, initialised by mpz_roinit_n and used only while `pos` is alive and unchanged.
+        // SAFETY: all accumulators have `cap` ≥ `width` limbs; the shifts work modulo
+        // 2^(64·width) (two's complement), where the exact sum fits with its sign.
         unsafe {
-            let (pp, np) = (self.pos.as_mut_ptr(), self.neg.as_mut_ptr());
-            let negative = gmp::mpn_cmp(pp, np, w) < 0;
+            let tp = self.total.as_mut_ptr();
+            if phased {
+                self.total[..width].fill(0);
+                while used != 0 {
+                    let phase = used.trailing_zeros() as usize;
+                    used &= used - 1;
+                    let src = self.phases.as_mut_ptr().add(phase * cap);
+                    if phase > 0 {
+                        gmp::mpn_lshift(src, src, w, phase as u32);
+                    }
+                    gmp::mpn_add_n(tp, tp, src, w);
+                }
+            }
+            // The sign is the top bit; round |sum|·2^base once.
+            let negative = self.total[width - 1] >> 63 == 1;
             if negative {
-                gmp::mpn_sub_n(pp, np, pp, w);
-            } else {
-                gmp::mpn_sub_n(pp, pp, np, w);
+                gmp::mpn_neg(tp, tp, w);
             }
             let mut z = MaybeUninit::<mpz_t>::uninit();
             let size = if negative { -w } else { w };
-            let zp = gmp::mpz_roinit_n(z.as_mut_ptr(), pp, size);
+            let zp = gmp::mpz_roinit_n(z.as_mut_ptr(), tp, size);
             mpfr::set_z_2exp(out.as_raw_mut(), zp, base as mpfr::exp_t, rnd_t::RNDN);
         }
     }
@@ -447,7 +550,7 @@ impl MpfrKernel {
         }
         let first_sum = coefficients.len();
         let constants = first_sum + scaled;
-        let mut operands = Operands::new(limbs, constants);
+        let mut operands = Operands::new(bits, constants);
         let mut finite = true;
         for (slot, c) in coefficients.iter().enumerate() {
             finite &= operands.set(slot, c);
