@@ -11,15 +11,20 @@
 //! The generic path rounds every product and every partial sum to the working precision p
 //! (2·(n+1) roundings per Cauchy sum, ~141 ns per multiply-add at 307 bits, 14 % of it
 //! allocation). Here each term is a product of two p-bit mantissas, formed **exactly** by GMP's
-//! `mpn_mul_n` (2L limbs for L = ⌈p/64⌉), shifted to a common binary point and added into a
-//! fixed-point accumulator (`mpn_add_n`; one accumulator for the positive and one for the
-//! negative products); the component is then rounded **once** to nearest (`mpfr_set_z_2exp` on a
-//! read-only `mpz` view of the accumulator's limbs). Quadratic coefficients that are ±2ʲ (all of
-//! them in the Euler–Poisson table: ±1, ±½) only shift the binary point; a linear term c·xᵢ,ₙ is
-//! one more exact product (the coefficient's mantissa times xᵢ,ₙ's). A quadratic coefficient that
-//! is not a power of two (other tables) gets its Cauchy sum rounded once first, then enters as
-//! the exact product c·S. No allocation happens in the step loop: the operands of every order are
-//! copied once into a limb table (the gather, O(p) per step) and all buffers are sized up front.
+//! `mpn_mul_n` (2L limbs for L = ⌈p/64⌉) and added (`mpn_add_n`) or subtracted (`mpn_sub_n`) at
+//! its limb offset in a two's complement fixed-point accumulator spanning all the products; the
+//! component is then rounded **once** to nearest (`mpfr_set_z_2exp` on a read-only `mpz` view of
+//! the accumulator's limbs). Products are never shifted one by one: every operand is stored
+//! with its exponent rounded up to a multiple of a grain g (its mantissa shifted right into the
+//! spare low bits of the last limb: g = 8 at 307 bits, up to 64), so a product's binary point
+//! modulo 64 takes few values; one accumulator per such bit phase, each shifted once at the end
+//! (precisions that fill their last limb, g < 8, shift each product instead). Quadratic
+//! coefficients that are ±2ʲ (all of them in the Euler–Poisson table: ±1, ±½) only move the
+//! binary point; a linear term c·xᵢ,ₙ is one more exact product (the coefficient's mantissa
+//! times xᵢ,ₙ's). A quadratic coefficient that is not a power of two (other tables) gets its
+//! Cauchy sum rounded once first, then enters as the exact product c·S. No allocation happens in
+//! the step loop: the operands of every order are copied once into a limb table (the gather,
+//! O(p) per step) and all buffers are sized up front.
 //!
 //! **Accuracy.** The accumulator spans all products of a component (from the top bit of the
 //! largest to the lowest bit of the smallest, plus one limb of carry room), so the result is the
