@@ -59,8 +59,6 @@ struct Workspace<T> {
     /// `series[k][i]`: coefficient k of component i in the current step (order by order, so
     /// the Cauchy products and Horner's rule run over contiguous `[T; DIM]` rows).
     series: Vec<[T; DIM]>,
-    /// 1, 2, …, order as scalars.
-    ints: Vec<T>,
     out: [T; DIM],
     scratch: CauchyScratch<T>,
     /// The limb-level kernel when `T` is MPFR (`mp.rs`).
@@ -82,7 +80,6 @@ impl<T: Real> Workspace<T> {
             field,
             order,
             series: vec![row.clone(); order + 1],
-            ints: (1..=order).map(|k| like.lit(k as f64)).collect(),
             out: row,
             scratch: CauchyScratch::new(like),
         }
@@ -119,13 +116,13 @@ impl<T: Real> Workspace<T> {
                     *o += d;
                 }
             }
-            // A local copy of the divisor: the row and the divisor then provably do not alias,
-            // and in f64 the nine divisions vectorise.
-            let div = self.ints[n].clone();
+            // The divisor n + 1 as an integer: the same rounding as dividing by the scalar
+            // n + 1, without one (MPFR: mpfr_div_ui); in f64 the nine divisions vectorise.
+            let div = n as u32 + 1;
             let row = &mut self.series[n + 1];
             for (s, o) in row.iter_mut().zip(&self.out) {
                 s.clone_from(o);
-                *s /= &div;
+                s.div_small(div);
             }
         }
     }

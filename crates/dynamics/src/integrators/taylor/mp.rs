@@ -86,15 +86,11 @@ pub const MAX_DEFAULT_LIMBS: usize = 14;
 /// Largest span of one accumulator in limbs beyond the product width (see the module docs).
 pub const MAX_SPAN_LIMBS: usize = 64;
 
-/// An operand: (−1)^neg · M · 2^(exp − 64L), M the L limbs at `at` in the limb table (least
-/// significant first, most significant limb normalised as in MPFR). `zero`: the value 0.
-#[derive(Clone, Copy, Debug, Default)]
-struct Operand {
-    exp: i64,
-    neg: bool,
-    zero: bool,
-    at: usize,
-}
+/// The exponent of a zero operand: far below any real one, so a product with a zero factor has
+/// a "top" below [`ZERO_TOP`] and is skipped.
+const ZERO_EXP: i64 = i64::MIN / 4;
+/// Products whose top exponent is below this have a zero factor.
+const ZERO_TOP: i64 = i64::MIN / 8;
 
 /// One quadratic term whose coefficient is ±2^shift: contributes ±2^shift·Σₘ x_{i,m} x_{j,n−m}.
 #[derive(Clone, Copy, Debug)]
@@ -131,47 +127,70 @@ struct ComponentPlan {
     linear: Vec<LinearTerm>,
 }
 
-/// One non-zero exact product to accumulate: the mantissas at `a` and `b` in the limb table,
-/// its sign, and `top` = ea + eb + shift (the product is below 2^top).
+/// A run of products ±2^shift·a_k·b_k, k = 0..count, with operand slots a_k = a + k·a_step,
+/// b_k = b + k·b_step: a whole Cauchy sum (a = x_{i,0}, x_{i,1}, …; b = x_{j,n}, x_{j,n−1}, …)
+/// or a single product.
 #[derive(Clone, Copy, Debug)]
-struct Product {
+struct Run {
     a: usize,
+    a_step: isize,
     b: usize,
-    top: i64,
+    b_step: isize,
+    count: usize,
     neg: bool,
+    shift: i64,
 }
 
-/// The products of one sum, collected with the extremes of their exponents.
-#[derive(Clone, Debug, Default)]
-struct Products {
-    list: Vec<Product>,
-    top_max: i64,
-    top_min: i64,
-}
-
-impl Products {
-    fn clear(&mut self) {
-        self.list.clear();
-        self.top_max = i64::MIN;
-        self.top_min = i64::MAX;
+impl Run {
+    fn single(a: usize, b: usize, neg: bool, shift: i64) -> Self {
+        Self {
+            a,
+            a_step: 0,
+            b,
+            b_step: 0,
+            count: 1,
+            neg,
+            shift,
+        }
     }
 
-    /// Add ±2^shift·(operand a)·(operand b) unless one factor is zero.
+    /// The Cauchy sum Σ_{m=0..n} x_{i,m} x_{j,n−m} with x_{i,m} at slot `first + m·DIM + i`.
+    fn cauchy(first: usize, i: usize, j: usize, n: usize, neg: bool, shift: i64) -> Self {
+        Self {
+            a: first + i,
+            a_step: DIM as isize,
+            b: first + n * DIM + j,
+            b_step: -(DIM as isize),
+            count: n + 1,
+            neg,
+            shift,
+        }
+    }
+
+    /// Call `f(a_k, b_k)` for the slots of the run, each below `slots` (checked once here at
+    /// both ends of the two arithmetic progressions; the calls get unchecked-safe indices).
     #[inline(always)]
-    fn push(&mut self, ops: &[Operand], a: usize, b: usize, neg: bool, shift: i64) {
-        let (a, b) = (&ops[a], &ops[b]);
-        if a.zero || b.zero {
+    fn for_each(&self, slots: usize, mut f: impl FnMut(usize, usize)) {
+        if self.count == 0 {
             return;
         }
-        let top = a.exp + b.exp + shift;
-        self.top_max = self.top_max.max(top);
-        self.top_min = self.top_min.min(top);
-        self.list.push(Product {
-            a: a.at,
-            b: b.at,
-            top,
-            neg: a.neg ^ b.neg ^ neg,
-        });
+        let last = self.count as isize - 1;
+        let ends = [
+            self.a as isize,
+            self.a as isize + last * self.a_step,
+            self.b as isize,
+            self.b as isize + last * self.b_step,
+        ];
+        assert!(
+            ends.iter().all(|&e| e >= 0 && (e as usize) < slots),
+            "operand slot out of range"
+        );
+        let (mut a, mut b) = (self.a as isize, self.b as isize);
+        for _ in 0..self.count {
+            f(a as usize, b as usize);
+            a += self.a_step;
+            b += self.b_step;
+        }
     }
 }
 
@@ -183,7 +202,10 @@ impl Products {
 struct Operands {
     limbs: usize,
     grain: i64,
-    ops: Vec<Operand>,
+    /// Per slot: the exponent (value = ±M·2^(exp − 64L), M the slot's L limbs; [`ZERO_EXP`]
+    /// for 0) and the sign.
+    exp: Vec<i64>,
+    neg: Vec<bool>,
     table: Vec<limb_t>,
 }
 
@@ -208,15 +230,17 @@ impl Operands {
         Self {
             limbs,
             grain: grain_for(bits),
-            ops: vec![Operand::default(); slots],
+            exp: vec![ZERO_EXP; slots],
+            neg: vec![false; slots],
             table: vec![0; slots * limbs],
         }
     }
 
     /// Make room for `slots` operands.
     fn reserve(&mut self, slots: usize) {
-        if self.ops.len() < slots {
-            self.ops.resize(slots, Operand::default());
+        if self.exp.len() < slots {
+            self.exp.resize(slots, ZERO_EXP);
+            self.neg.resize(slots, false);
             self.table.resize(slots * self.limbs, 0);
         }
     }
@@ -229,12 +253,7 @@ impl Operands {
         let l = self.limbs;
         let at = slot * l;
         if x.is_zero() {
-            self.ops[slot] = Operand {
-                exp: 0,
-                neg: false,
-                zero: true,
-                at,
-            };
+            self.exp[slot] = ZERO_EXP;
             return true;
         }
         if !x.is_normal() {
@@ -262,12 +281,8 @@ impl Operands {
                 }
                 gmp::mpn_rshift(dst.as_mut_ptr(), dst.as_ptr(), l as _, shift as u32);
             }
-            self.ops[slot] = Operand {
-                exp: exp + shift,
-                neg: x.is_sign_negative(),
-                zero: false,
-                at,
-            };
+            self.exp[slot] = exp + shift;
+            self.neg[slot] = x.is_sign_negative();
         }
         true
     }
@@ -336,21 +351,33 @@ impl Accumulator {
         }
     }
 
-    /// Σ over `products` of ±a·b (shifts folded in), exactly in fixed point, rounded once into
+    /// Σ over the products of `runs` of ±2^shift·a·b, exactly in fixed point, rounded once into
     /// `out`.
-    fn sum(&mut self, operands: &Operands, products: &Products, out: &mut Float) {
-        let table = &operands.table;
+    fn sum(&mut self, operands: &Operands, runs: &[Run], out: &mut Float) {
+        let (exp, sign, table) = (&operands.exp, &operands.neg, &operands.table);
         let limbs = operands.limbs;
         let l = limbs as i64;
-        if products.list.is_empty() {
+        // Pass 1: the extremes of the products' exponents (a product is below 2^top,
+        // top = ea + eb + shift; its lowest bit has weight 2^(top − 128L)).
+        let mut top_max = ZERO_TOP;
+        let mut top_min = i64::MAX;
+        let slots = exp.len().min(sign.len()).min(table.len() / limbs);
+        for run in runs {
+            run.for_each(slots, |a, b| {
+                // SAFETY: a, b < slots (checked by for_each).
+                let top = unsafe { exp.get_unchecked(a) + exp.get_unchecked(b) } + run.shift;
+                if top > ZERO_TOP {
+                    top_max = top_max.max(top);
+                    top_min = top_min.min(top);
+                }
+            });
+        }
+        if top_max == ZERO_TOP {
             out.assign(0);
             return;
         }
-        // The binary point. A product's mantissa has 2L limbs; its value is below 2^top, its
-        // lowest bit has weight 2^(top − 128L). Limbs: the span of all products plus one limb
-        // of carry (and sign) room and one for the bit shift, at most the product width plus
-        // MAX_SPAN_LIMBS.
-        let (top_max, top_min) = (products.top_max, products.top_min);
+        // The binary point. Limbs: the span of all products plus one limb of carry (and sign)
+        // room and one for the bit shift, at most the product width plus MAX_SPAN_LIMBS.
         let span = ((top_max - top_min + 128 * l) as u64).div_ceil(64) as usize + 2;
         let width = span.min(self.cap);
         // Weight of limb 0's lowest bit: the top limb is carry room above 2^top_max.
@@ -362,66 +389,78 @@ impl Accumulator {
         if !phased {
             self.total[..width].fill(0);
         }
-        for p in &products.list {
-            let offset = p.top - 128 * l - base;
-            // SAFETY: operands lie in `table` (L limbs each); `prod` has 2L + 1 limbs; a
-            // product below 2^top_max placed at `offset` ends below limb width − 1 (the carry
-            // room), so every write stays inside the accumulator's `width` limbs.
-            unsafe {
-                let pp = self.prod.as_mut_ptr();
-                gmp::mpn_mul_n(
-                    pp,
-                    table.as_ptr().add(p.a),
-                    table.as_ptr().add(p.b),
-                    limbs as _,
-                );
-                let (acc, start, len) = if offset >= 0 {
-                    let start = (offset / 64) as usize;
-                    let bits = offset % 64;
-                    if phased {
-                        let phase = bits as usize;
-                        let acc = &mut self.phases[phase * cap..phase * cap + width];
-                        if used & (1 << phase) == 0 {
-                            used |= 1 << phase;
-                            acc.fill(0);
-                        }
-                        (acc, start, pl)
-                    } else {
-                        *pp.add(pl) = if bits == 0 {
-                            0
-                        } else {
-                            gmp::mpn_lshift(pp, pp, pl as _, bits as u32)
-                        };
-                        (&mut self.total[..width], start, pl + 1)
-                    }
-                } else {
-                    // Below the accumulator (span over MAX_SPAN_LIMBS): truncated, into
-                    // phase 0 (or the total).
-                    let drop = (-offset) as u64;
-                    if drop >= 64 * pl as u64 {
-                        continue;
-                    }
-                    let (whole, bits) = ((drop / 64) as usize, (drop % 64) as u32);
-                    let rest = pl - whole;
-                    if bits > 0 {
-                        gmp::mpn_rshift(pp, pp.add(whole), rest as _, bits);
-                    } else {
-                        gmp::mpn_copyi(pp, pp.add(whole), rest as _);
-                    }
-                    let acc = if phased {
-                        let acc = &mut self.phases[..width];
-                        if used & 1 == 0 {
-                            used |= 1;
-                            acc.fill(0);
-                        }
-                        acc
-                    } else {
-                        &mut self.total[..width]
-                    };
-                    (acc, 0, rest)
+        for run in runs {
+            run.for_each(slots, |a, b| {
+                // SAFETY: a, b < slots (checked by for_each).
+                let (top, negative) = unsafe {
+                    (
+                        exp.get_unchecked(a) + exp.get_unchecked(b) + run.shift,
+                        sign.get_unchecked(a) ^ sign.get_unchecked(b) ^ run.neg,
+                    )
                 };
-                add_or_sub(acc, start, pp, len, p.neg);
-            }
+                if top <= ZERO_TOP {
+                    return;
+                }
+                let offset = top - 128 * l - base;
+                // SAFETY: operands lie in `table` (L limbs each); `prod` has 2L + 1 limbs; a
+                // product below 2^top_max placed at `offset` ends below limb width − 1 (the carry
+                // room), so every write stays inside the accumulator's `width` limbs.
+                unsafe {
+                    let pp = self.prod.as_mut_ptr();
+                    gmp::mpn_mul_n(
+                        pp,
+                        table.as_ptr().add(a * limbs),
+                        table.as_ptr().add(b * limbs),
+                        limbs as _,
+                    );
+                    let (acc, start, len) = if offset >= 0 {
+                        let start = (offset / 64) as usize;
+                        let bits = offset % 64;
+                        if phased {
+                            let phase = bits as usize;
+                            let acc = &mut self.phases[phase * cap..phase * cap + width];
+                            if used & (1 << phase) == 0 {
+                                used |= 1 << phase;
+                                acc.fill(0);
+                            }
+                            (acc, start, pl)
+                        } else {
+                            *pp.add(pl) = if bits == 0 {
+                                0
+                            } else {
+                                gmp::mpn_lshift(pp, pp, pl as _, bits as u32)
+                            };
+                            (&mut self.total[..width], start, pl + 1)
+                        }
+                    } else {
+                        // Below the accumulator (span over MAX_SPAN_LIMBS): truncated, into
+                        // phase 0 (or the total).
+                        let drop = (-offset) as u64;
+                        if drop >= 64 * pl as u64 {
+                            return;
+                        }
+                        let (whole, bits) = ((drop / 64) as usize, (drop % 64) as u32);
+                        let rest = pl - whole;
+                        if bits > 0 {
+                            gmp::mpn_rshift(pp, pp.add(whole), rest as _, bits);
+                        } else {
+                            gmp::mpn_copyi(pp, pp.add(whole), rest as _);
+                        }
+                        let acc = if phased {
+                            let acc = &mut self.phases[..width];
+                            if used & 1 == 0 {
+                                used |= 1;
+                                acc.fill(0);
+                            }
+                            acc
+                        } else {
+                            &mut self.total[..width]
+                        };
+                        (acc, 0, rest)
+                    };
+                    add_or_sub(acc, start, pp, len, negative);
+                }
+            });
         }
         let w = width as gmp::size_t;
         // SAFETY: all accumulators have `cap` ≥ `width` limbs; the shifts work modulo
@@ -472,8 +511,8 @@ pub struct MpfrKernel {
     rows: usize,
     /// All coefficients are finite (else every call takes the generic path).
     usable: bool,
-    /// Products of the sum being formed (reused).
-    products: Products,
+    /// The runs of products of the sum being formed (reused).
+    runs: Vec<Run>,
     acc: Accumulator,
     /// Rounded Cauchy sums of the scaled terms (working precision).
     sums: Vec<Float>,
@@ -570,7 +609,7 @@ impl MpfrKernel {
             // A coefficient that cannot be an operand (non-finite) sends every call to the
             // generic path.
             usable: finite,
-            products: Products::default(),
+            runs: Vec::new(),
             acc: Accumulator::new(limbs),
             sums: vec![Float::new(bits); scaled],
             generic: CauchyScratch::new(&Float::new(bits)),
@@ -633,46 +672,32 @@ impl MpfrKernel {
 
     /// Component k of f(x)ₙ into `out` (one rounding; one more per scaled term).
     fn component(&mut self, k: usize, n: usize, out: &mut Float) {
-        let constants = self.constants;
-        let slot = |m: usize, i: usize| constants + m * DIM + i;
+        let first = self.constants;
         // Scaled terms first: S rounded once, then c·S is an exact product like the others.
         for term in &self.plans[k].scaled {
-            let products = &mut self.products;
-            products.clear();
-            for m in 0..=n {
-                products.push(
-                    &self.operands.ops,
-                    slot(m, term.i),
-                    slot(n - m, term.j),
-                    false,
-                    0,
-                );
-            }
+            self.runs.clear();
+            self.runs
+                .push(Run::cauchy(first, term.i, term.j, n, false, 0));
             let sum = &mut self.sums[term.sum];
-            self.acc.sum(&self.operands, &self.products, sum);
+            self.acc.sum(&self.operands, &self.runs, sum);
             // A finite sum of finite products (or an overflow to ∞, then the generic path
             // would give ∞ too and the integrator stops on it).
             self.operands.set(self.first_sum + term.sum, sum);
         }
-        let (plan, ops, products) = (&self.plans[k], &self.operands.ops, &mut self.products);
-        products.clear();
+        let plan = &self.plans[k];
+        self.runs.clear();
         for term in &plan.scaled {
-            products.push(ops, term.c, self.first_sum + term.sum, false, 0);
+            self.runs
+                .push(Run::single(term.c, self.first_sum + term.sum, false, 0));
         }
         for term in &plan.shifted {
-            for m in 0..=n {
-                products.push(
-                    ops,
-                    slot(m, term.i),
-                    slot(n - m, term.j),
-                    term.neg,
-                    term.shift,
-                );
-            }
+            self.runs
+                .push(Run::cauchy(first, term.i, term.j, n, term.neg, term.shift));
         }
         for term in &plan.linear {
-            products.push(ops, term.c, slot(n, term.i), false, 0);
+            self.runs
+                .push(Run::single(term.c, first + n * DIM + term.i, false, 0));
         }
-        self.acc.sum(&self.operands, &self.products, out);
+        self.acc.sum(&self.operands, &self.runs, out);
     }
 }
