@@ -12,10 +12,13 @@ use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
-use rsts_harness::{compare, Case, Observer, Report, SampleRecord};
+use rsts_harness::{
+    compare_integrator, Case, CompareOptions, Integrator, Observer, Report, SampleRecord,
+};
 use rsts_mcap::{BodyState, ErrorSample, Metadata, Sample, TrajectoryLog};
 
 use crate::args::{count, finite_f64, CaseArgs, MethodArgs, MAX_SAMPLES};
+use crate::external::{exec_integrator, TimeoutArgs};
 use crate::output::{self, Format};
 
 /// Shown at the end of `rsts compare --help`.
@@ -46,9 +49,20 @@ pub struct Args {
     pub samples: usize,
     #[command(flatten)]
     pub method: MethodArgs,
-    /// Decimal digits of taylor-mp (10 to 10000; default 50)
+    /// Run this external integrator instead of --method: a command (split like a shell would,
+    /// run without a shell) speaking rsts-integrator/1 on stdin/stdout (docs/own-integrator.md)
+    #[arg(long, value_name = "COMMAND", conflicts_with = "method")]
+    pub exec: Option<String>,
+    #[command(flatten)]
+    pub timeout: TimeoutArgs,
+    /// Decimal digits of taylor-mp (10 to 10000; default 50); with --exec, of the request's
+    /// parameters and initial state (default 36)
     #[arg(long, value_name = "D")]
     pub digits: Option<u32>,
+    /// Integrate in at most N pieces, each restarted from the last state of the previous one
+    /// (progress, Ctrl-C between pieces); 1: one uninterrupted run, as `rsts integrate` does
+    #[arg(long, value_name = "N", default_value_t = rsts_harness::DEFAULT_PIECES)]
+    pub pieces: usize,
     /// Write the comparison to this MCAP file (Foxglove schemas)
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
@@ -148,11 +162,26 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         );
     }
     let mut config = args.method.config()?;
-    if let Some(d) = args.digits {
+    let mut external = None;
+    if let Some(command) = &args.exec {
+        external = Some(exec_integrator(
+            command,
+            config.tolerances,
+            args.digits,
+            args.timeout.exec_timeout,
+        )?);
+    } else if let Some(d) = args.digits {
         config = config.with_digits(d).context("--digits")?;
     }
+    let integrator: &mut dyn Integrator = match &mut external {
+        Some(exec) => exec,
+        None => &mut config,
+    };
     let case = args.case();
     case.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
+    if args.pieces == 0 {
+        bail!("--pieces: need at least 1");
+    }
     let log = match &args.mcap {
         None => None,
         Some(path) => {
@@ -160,17 +189,16 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 std::fs::create_dir_all(dir)
                     .with_context(|| format!("--mcap: cannot create {}", dir.display()))?;
             }
-            let integrator = serde_json::json!({
-                "method": config.method.as_str(),
-                "rtol": config.tolerances.rtol,
-                "atol": config.tolerances.atol,
-                "digits": rsts_dynamics::scalar::digits_for_bits(config.working_bits()),
+            let mut meta = serde_json::json!({
+                "method": integrator.name(),
+                "rtol": args.method.rtol,
+                "atol": args.method.atol,
+                "digits": rsts_dynamics::scalar::digits_for_bits(integrator.working_bits()),
             });
-            let meta = Metadata::new(
-                concat!("rsts ", env!("CARGO_PKG_VERSION")),
-                &case,
-                &integrator,
-            )?;
+            if let Some(command) = &args.exec {
+                meta["command"] = command.clone().into();
+            }
+            let meta = Metadata::new(concat!("rsts ", env!("CARGO_PKG_VERSION")), &case, &meta)?;
             Some(
                 TrajectoryLog::create(path, &meta)
                     .with_context(|| format!("--mcap {}", path.display()))?,
@@ -185,6 +213,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             if stop.swap(true, Ordering::SeqCst) {
                 std::process::exit(130);
             }
+            // An external integrator runs in one piece: stop it now.
+            rsts_external::kill_running();
         });
     }
     let bar =
@@ -203,13 +233,22 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         started: Instant::now(),
         stop: stop.clone(),
     };
-    let result = compare(&case, &config, &mut observer);
+    let options = CompareOptions {
+        pieces: args.pieces,
+    };
+    let result = compare_integrator(&case, integrator, &options, &mut observer);
     observer.bar.finish_and_clear();
     let log_stats = match observer.log.take() {
         Some(log) => Some(log.finish().context("finishing the MCAP file")?),
         None => None,
     };
-    let report = result.map_err(|e| anyhow::anyhow!("{e}"))?;
+    let report = match result {
+        Ok(r) => r,
+        Err(e) if stop.load(Ordering::SeqCst) => {
+            return Err(Interrupted(format!("interrupted: {e}")).into())
+        }
+        Err(e) => bail!("{e}"),
+    };
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     match args.format {
         Format::Json => output::write_json(
@@ -259,8 +298,14 @@ fn write_table(out: &mut dyn Write, args: &Args, r: &Report) -> anyhow::Result<(
             (
                 "method",
                 format!(
-                    "{} (rtol {:e}, atol {:e}, {} digits; reference {} digits)",
-                    r.method, r.rtol, r.atol, r.digits, r.reference_digits
+                    "{} ({}{} digits; reference {} digits)",
+                    r.method,
+                    match (r.rtol, r.atol) {
+                        (Some(rtol), Some(atol)) => format!("rtol {rtol:e}, atol {atol:e}, "),
+                        _ => String::new(),
+                    },
+                    r.digits,
+                    r.reference_digits
                 ),
             ),
             (
@@ -291,7 +336,13 @@ fn write_table(out: &mut dyn Write, args: &Args, r: &Report) -> anyhow::Result<(
             ("rhs evaluations", r.rhs_evals.to_string()),
             (
                 "integration time",
-                format!("{:.6} s", r.integration_seconds),
+                match r.wall_seconds {
+                    Some(w) => format!(
+                        "{:.6} s (process wall time {w:.6} s)",
+                        r.integration_seconds
+                    ),
+                    None => format!("{:.6} s", r.integration_seconds),
+                },
             ),
         ],
     )?;
