@@ -2,7 +2,10 @@
 """Speed against error, rsts against heyoka, in one run: the ratios of the four targets of
 issue 12 on three motions of N (a = 1, b = 0.5; T = 100, 101 samples), printed as one table.
 
-Run it through scripts/bench_vs_heyoka.sh (installs heyoka, builds rsts). Targets:
+Run it through scripts/bench_vs_heyoka.sh (installs heyoka, builds rsts). Both sides are
+measured by `rsts bench` against the same closed-form reference: ours as built-in methods,
+heyoka as an external integrator (`--exec` with scripts/adapters/heyoka_adapter.py, whose
+integration_seconds time heyoka's propagate_grid alone, its JIT compilation excluded). Targets:
 
   f64       max error <= 1e-13 in <= 0.4x heyoka f64's time; error floor <= 1/3 of heyoka's
   extended  taylor-dd reaches <= 1e-31 in <= 0.1x the time heyoka real128 needs for its best
@@ -15,7 +18,7 @@ error), and then ours and heyoka's runs at those tolerances alternate for --roun
 load from other processes hits both; the ratio of each round is ours/heyoka, the median is
 reported with the range. Every run's JSON rows are kept under --out.
 
-    bench_vs_heyoka.py run --rsts target/release/rsts --python .venv-heyoka/bin/python
+    bench_vs_heyoka.py run --rsts target/release/rsts --python .venv-adapters/bin/python
     bench_vs_heyoka.py selftest     # the selection and summary logic on made-up rows
 """
 
@@ -23,6 +26,7 @@ import argparse
 import json
 import os
 import re
+import shlex
 import statistics
 import subprocess
 import sys
@@ -59,52 +63,35 @@ def loadavg():
 
 
 class Runner:
-    """Runs our rows (rsts bench) and the peer's rows (scripts/peer_heyoka.py) for one case."""
+    """Runs `rsts bench` for one case: our methods, or heyoka through its adapter (--exec)."""
 
     def __init__(self, rsts, python, case, out):
         self.rsts, self.python, self.case, self.out = rsts, python, case, out
         name, m, h = case
         self.tag = re.sub(r"[^A-Za-z0-9]+", "_", name)
         self.args = ["--m", m, "--h", h]
-        self.ref = os.path.join(out, f"ref-{self.tag}.json")
         self.count = 0
 
-    def _json(self, cmd, path):
-        log("  $ " + " ".join(cmd))
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL if path else None)
-        with open(path) as f:
-            return json.load(f)["rows"]
-
-    def reference(self):
-        if not os.path.exists(self.ref):
-            cmd = [self.rsts, "bench", *self.args, "--write-reference", self.ref,
-                   "--reference-digits", "120"]
-            log("  $ " + " ".join(cmd))
-            subprocess.run(cmd, check=True, stdout=sys.stderr)
-
-    def ours(self, method, tols, repeats, digits=None):
+    def _bench(self, label, what, tols, repeats, digits):
         self.count += 1
-        path = os.path.join(self.out, f"ours-{self.tag}-{method}-{self.count}.json")
-        cmd = [self.rsts, "bench", *self.args, "--methods", method,
+        path = os.path.join(self.out, f"{label}-{self.tag}-{self.count}.json")
+        cmd = [self.rsts, "bench", *self.args, *what,
                "--tolerances", ",".join(f"{t:g}" for t in tols), "--repeats", str(repeats),
                "--format", "json"]
         if digits:
             cmd += ["--digits", str(digits)]
-        log("  $ " + " ".join(cmd) + f" > {path}")
+        log("  $ " + shlex.join(cmd) + f" > {path}")
         with open(path, "w") as f:
             subprocess.run(cmd, check=True, stdout=f)
         with open(path) as f:
             return json.load(f)["rows"]
 
+    def ours(self, method, tols, repeats, digits=None):
+        return self._bench(method, ["--methods", method], tols, repeats, digits)
+
     def peer(self, method, tols, repeats, digits=None):
-        self.count += 1
-        path = os.path.join(self.out, f"heyoka-{self.tag}-{method}-{self.count}.json")
-        cmd = [self.python, "scripts/peer_heyoka.py", "compare", self.ref, "--methods", method,
-               "--tolerances", ",".join(f"{t:g}" for t in tols), "--repeats", str(repeats),
-               "--out", path]
-        if digits:
-            cmd += ["--mp-digits", str(digits)]
-        return self._json(cmd, path)
+        adapter = f"{self.python} scripts/adapters/heyoka_adapter.py {method}"
+        return self._bench(f"heyoka-{method}", ["--exec", adapter], tols, repeats, digits)
 
 
 def cheapest_reaching(rows, error):
@@ -143,7 +130,6 @@ def alternate(runner, ours_args, peer_args, rounds):
 
 
 def measure_case(runner, rounds, quick):
-    runner.reference()
     result = {"case": runner.case[0], "m": runner.case[1], "h": runner.case[2]}
 
     # f64: sweep, then the cheapest tolerance reaching 1e-13 on each side, alternated.
@@ -211,7 +197,7 @@ def closed_form(cargo_args):
     t = 1, 1e3, 1e6, 1.5e9), in microseconds."""
     cmd = ["cargo", "bench", *cargo_args, "-p", "rsts-closed-form", "--bench", "explicit", "--",
            "--output-format", "bencher", "state/(f64|100-digits)/"]
-    log("  $ " + " ".join(cmd))
+    log("  $ " + shlex.join(cmd))
     text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     return parse_bencher(text)
 
@@ -368,7 +354,7 @@ def main():
     sub = p.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("run", help="measure and print the ratios")
     r.add_argument("--rsts", default="target/release/rsts")
-    r.add_argument("--python", default=".venv-heyoka/bin/python")
+    r.add_argument("--python", default=".venv-adapters/bin/python")
     r.add_argument("--rounds", type=int, default=3, help="alternated rounds per target")
     r.add_argument("--cases", help="comma-separated subset of " + ",".join(c[0] for c in CASES))
     r.add_argument("--quick", action="store_true", help="fewer MPFR tolerances")

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Speed against error, rsts against heyoka, in one run: installs heyoka if needed
-# (scripts/install_heyoka.sh), builds rsts (release), then measures and prints the ratios of
-# the four targets of docs/benchmarks.md (f64, extended, MPFR at 90 digits, closed form) on
+# (scripts/install_adapters.sh heyoka), builds rsts (release), then measures and prints the
+# ratios of the four targets of docs/benchmarks.md (f64, extended, MPFR at 90 digits, closed form) on
 # the README's default case (camera I+: a = 1, b = 0.5, m = 0.3, h = -0.375) and two more
 # example points (II+, and VI with m < 0), alternating our runs and heyoka's so that load from
-# other processes hits both. The machine is usually shared: the load average is printed.
+# other processes hits both. heyoka runs as an external integrator of `rsts bench --exec`
+# (scripts/adapters/heyoka_adapter.py). The machine is usually shared: the load average is
+# printed.
 #
 #   scripts/bench_vs_heyoka.sh                    # all cases, 3 alternated rounds per target
 #   scripts/bench_vs_heyoka.sh --rounds 5 --cases I+
@@ -15,9 +17,9 @@
 # Takes 10-30 minutes on 2 shared cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PY=.venv-heyoka/bin/python
+PY=.venv-adapters/bin/python
 if ! { [ -x "$PY" ] && "$PY" -c "import heyoka" 2>/dev/null; }; then
-    bash scripts/install_heyoka.sh >&2
+    bash scripts/install_adapters.sh heyoka >&2
 fi
 bash scripts/setup.sh >&2
 cargo build --release -p rsts-cli >&2
