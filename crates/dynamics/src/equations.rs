@@ -290,6 +290,8 @@ struct Term<T> {
 /// The Euler–Poisson vector field for given field strengths, ready to evaluate in scalar `T`.
 #[derive(Clone, Debug)]
 pub struct VectorField<T> {
+    /// The table the field was built from.
+    table: [Component; DIM],
     terms: Vec<Vec<Term<T>>>,
     /// Built from [`EULER_POISSON`] itself: the const-unrolled kernel applies.
     standard: bool,
@@ -364,6 +366,7 @@ impl<T: Real> VectorField<T> {
             }
         }
         Self {
+            table: *table,
             terms,
             standard,
             quad_c,
@@ -371,6 +374,11 @@ impl<T: Real> VectorField<T> {
             quad,
             lin,
         }
+    }
+
+    /// The table of equations the field was built from.
+    pub fn table(&self) -> &[Component; DIM] {
+        &self.table
     }
 
     /// dx/dt = f(x).

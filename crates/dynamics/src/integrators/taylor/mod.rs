@@ -27,7 +27,15 @@
 //! `generic.rs` (the stepper written once over any [`Real`]: the path of every scalar without a
 //! dedicated kernel).
 
+mod expansion;
+mod fast;
 mod generic;
+mod layout;
+mod series;
+pub mod simd;
+
+pub use fast::LANE_EXTRA_BITS;
+pub use simd::{SimdPath, SIMD_ENV};
 
 use crate::equations::VectorField;
 use crate::error::DynamicsError;
@@ -48,6 +56,9 @@ pub struct Taylor {
     /// Keep the state and the time as compensated sums hi + lo (default). `false`: plain
     /// summation x ← x + Σₖ xₖhᵏ, for comparison (see the tests and docs/taylor.md).
     pub compensated: bool,
+    /// The code path of the lane kernels (taylor-f64, taylor-dd); `None`: the one `RSTS_SIMD`
+    /// names, else the best this CPU has ([`SimdPath`]).
+    pub simd: Option<SimdPath>,
 }
 
 impl Taylor {
@@ -59,6 +70,15 @@ impl Taylor {
         Self {
             tolerances,
             compensated: true,
+            simd: None,
+        }
+    }
+
+    /// The same method on a given code path (tests force each one).
+    pub fn with_simd(self, path: SimdPath) -> Self {
+        Self {
+            simd: Some(path),
+            ..self
         }
     }
 
@@ -94,8 +114,8 @@ impl Taylor {
         let unit = 2f64.powi(-(bits.min(1000) as i32));
         if rtol < unit {
             return Err(DynamicsError::Settings(format!(
-                "rtol = {rtol:e} is below the unit round-off {unit:.2e} of a {bits}-bit scalar; \
-                 use a wider scalar (taylor-dd: 106 bits, taylor-mp with more digits)"
+                "rtol = {rtol:e} is below {unit:.2e} = 2^-{bits}, the unit round-off this method \
+                 can deliver; use a wider scalar (taylor-dd, taylor-mp with more digits)"
             )));
         }
         let eps = rtol.min(atol).max(unit);
@@ -132,6 +152,9 @@ impl Taylor {
         problem: &Problem<T>,
         grid: &OutputGrid,
     ) -> Result<Solution<T>, DynamicsError> {
+        if let Some(sol) = self.propagate_lanes(&field, problem, grid)? {
+            return Ok(sol);
+        }
         generic::propagate(self, field, problem, grid)
     }
 }
