@@ -129,20 +129,31 @@ pub(crate) unsafe fn renormalize<A: Arith, const K: usize>(mut p: [A::T; K]) -> 
 /// An accumulator by levels: part `l` collects terms of size ~ 2^(−53 l) relative to the
 /// whole (the product of parts i and j goes to level i + j). A term added at level l is
 /// summed with two_sum and its rounding error cascades to the next level; the last level is
-/// summed plainly (so it is the only one rounded).
+/// summed plainly, or, with `G` (guarded, for long sums such as the Cauchy sums), with
+/// two_sum too, its errors into a guard: a long sum then loses about one unit of the last
+/// part, not one per term.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Acc<A: Arith, const K: usize>(pub [A::T; K]);
+pub(crate) struct Acc<A: Arith, const K: usize, const G: bool = false> {
+    parts: [A::T; K],
+    guard: A::T,
+}
 
-impl<A: Arith, const K: usize> Acc<A, K> {
+impl<A: Arith, const K: usize, const G: bool> Acc<A, K, G> {
     #[inline(always)]
     pub unsafe fn zero() -> Self {
-        Self([A::zero(); K])
+        Self {
+            parts: [A::zero(); K],
+            guard: A::zero(),
+        }
     }
 
     /// Start from the value `x`.
     #[inline(always)]
-    pub fn from(x: [A::T; K]) -> Self {
-        Self(x)
+    pub unsafe fn from(x: [A::T; K]) -> Self {
+        Self {
+            parts: x,
+            guard: A::zero(),
+        }
     }
 
     /// Add v at `level` < K − 1, cascading; what reaches the last level goes into `last`.
@@ -151,26 +162,38 @@ impl<A: Arith, const K: usize> Acc<A, K> {
         let mut v = v;
         let mut l = level;
         while l + 1 < K {
-            let (s, e) = two_sum::<A>(self.0[l], v);
-            self.0[l] = s;
+            let (s, e) = two_sum::<A>(self.parts[l], v);
+            self.parts[l] = s;
             v = e;
             l += 1;
         }
         *last = A::add(*last, v);
     }
 
+    /// Add `last` to the last level (K ≥ 2), guarded: its rounding error to the guard.
+    #[inline(always)]
+    unsafe fn add_last(&mut self, last: A::T) {
+        if G {
+            let (s, e) = two_sum::<A>(self.parts[K - 1], last);
+            self.parts[K - 1] = s;
+            self.guard = A::add(self.guard, e);
+        } else {
+            self.parts[K - 1] = A::add(self.parts[K - 1], last);
+        }
+    }
+
     /// Add every part of `x` at its level.
     #[inline(always)]
     pub unsafe fn add_exp(&mut self, x: &[A::T; K]) {
         if K == 1 {
-            self.0[0] = A::add(self.0[0], x[0]);
+            self.parts[0] = A::add(self.parts[0], x[0]);
             return;
         }
-        let mut last = A::add(self.0[K - 1], x[K - 1]);
+        let mut last = x[K - 1];
         for l in 0..K - 1 {
             self.cascade(l, x[l], &mut last);
         }
-        self.0[K - 1] = last;
+        self.add_last(last);
     }
 
     /// Add a·b: the products of parts below level K − 1 exactly (two_prod), those at level
@@ -179,7 +202,7 @@ impl<A: Arith, const K: usize> Acc<A, K> {
     #[inline(always)]
     pub unsafe fn add_prod(&mut self, a: &[A::T; K], b: &[A::T; K]) {
         if K == 1 {
-            self.0[0] = A::mul_add(a[0], b[0], self.0[0]);
+            self.parts[0] = A::mul_add(a[0], b[0], self.parts[0]);
             return;
         }
         // The rounded products of the last level first (no addition of a zero: x + 0 is
@@ -199,13 +222,17 @@ impl<A: Arith, const K: usize> Acc<A, K> {
                 }
             }
         }
-        self.0[K - 1] = A::add(self.0[K - 1], last);
+        self.add_last(last);
     }
 
     /// The sum, renormalised.
     #[inline(always)]
     pub unsafe fn value(&self) -> [A::T; K] {
-        renormalize::<A, K>(self.0)
+        let mut p = self.parts;
+        if G && K > 1 {
+            p[K - 1] = A::add(p[K - 1], self.guard);
+        }
+        renormalize::<A, K>(p)
     }
 }
 

@@ -82,7 +82,7 @@ unsafe fn coefficient<I: Isa, const K: usize>(
 }
 
 /// The slot coefficients of `layout` for the fields of `input`, in K parts.
-unsafe fn slot_coefficients<I: Isa, const K: usize>(
+pub(super) unsafe fn slot_coefficients<I: Isa, const K: usize>(
     layout: &Layout,
     input: &FastInput<K>,
 ) -> SlotCoefficients<K> {

@@ -33,6 +33,8 @@ mod generic;
 mod layout;
 mod series;
 pub mod simd;
+#[cfg(test)]
+mod tests;
 
 pub use fast::LANE_EXTRA_BITS;
 pub use simd::{SimdPath, SIMD_ENV};

@@ -279,7 +279,7 @@ impl<I: Isa, const P: usize> LaneSeries<I, P> {
             let rows = &self.rows[..=n];
             // One accumulator for all rows (their sum is what is wanted): fewer registers;
             // the sums' latency chains are still shorter than the work per m.
-            let mut f = Acc::<L<I>, P>::zero();
+            let mut f = Acc::<L<I>, P, true>::zero();
             for m in 0..=n {
                 let (a, b) = (rows.get_unchecked(m), rows.get_unchecked(n - m));
                 for r in 0..ROWS {
