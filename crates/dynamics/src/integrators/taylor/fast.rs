@@ -197,8 +197,8 @@ unsafe fn run<I: Isa, const P: usize, const K: usize>(
     let coef = slot_coefficients::<I, K>(layout, input);
     // The extended coefficients x₁ … x_e (and the main kernel's rows 0 … e − 1, copied).
     let e = settings.ext.min(order).min(MAX_EXT);
-    let mut ext = LaneSeries::<I, K>::new(layout, &coef, e);
-    let mut main = LaneSeries::<I, P>::new(layout, &coef.truncate::<P>(), order);
+    let mut ext = LaneSeries::<I, K>::new(layout, &coef, e, false);
+    let mut main = LaneSeries::<I, P>::new(layout, &coef.truncate::<P>(), order, true);
     let safety = (-0.7 / (order as f64 - 1.0)).exp() / std::f64::consts::E.powi(2);
     let g = granularity(grid.t_end);
 
@@ -216,17 +216,22 @@ unsafe fn run<I: Isa, const P: usize, const K: usize>(
                 grid.time(next)
             )));
         }
-        // x₁, x₂ in K parts, then x₃ … xₚ in P parts.
-        ext.set(0, &state);
-        ext.advance(0, e);
-        for m in 0..e {
-            main.copy_from(m, &ext);
-        }
-        if order > e {
-            main.set(e, &trunc(&ext.x[e]));
-            main.advance(e, order);
+        // x₁ … x_e in K parts, then x_(e+1) … xₚ in P parts.
+        if e == 0 {
+            main.set(0, &trunc(&state));
+            main.advance(0, order);
         } else {
-            main.x[e] = trunc(&ext.x[e]);
+            ext.set(0, &state);
+            ext.advance(0, e);
+            for m in 0..e {
+                main.copy_from(m, &ext);
+            }
+            if order > e {
+                main.set(e, &trunc(&ext.x[e]));
+                main.advance(e, order);
+            } else {
+                main.x[e] = trunc(&ext.x[e]);
+            }
         }
         stats.accepted_steps += 1;
         stats.rhs_evals += order as u64 + 1;
@@ -239,9 +244,10 @@ unsafe fn run<I: Isa, const P: usize, const K: usize>(
             0.0
         };
         let (n1, n2) = (main.norm(order - 1), main.norm(order));
-        let rho1 = ((ln_x - n1.ln()) / (order - 1) as f64).exp();
-        let rho2 = ((ln_x - n2.ln()) / order as f64).exp();
-        let rho = rho1.min(rho2);
+        // min(ρ_{p−1}, ρ_p) with one exp (exp is monotonic: the same value).
+        let e1 = (ln_x - n1.ln()) / (order - 1) as f64;
+        let e2 = (ln_x - n2.ln()) / order as f64;
+        let rho = e1.min(e2).exp();
         let mut h = rho * safety;
         if !h.is_finite() {
             // All coefficients vanish (an equilibrium): one step to the end.
@@ -357,12 +363,20 @@ impl Taylor {
 /// docs/taylor.md).
 pub const LANE_EXTRA_BITS: u32 = 8;
 
-/// How many coefficients the kernel of P parts computes in P + 1 parts: x₁, x₂ for f64 (the
-/// leading terms of the update: its floor drops ~10× from plain f64); x₁, x₂, x₃ for
+/// Tolerances at least this many units of the kernel scalar's round-off run without extended
+/// coefficients: the error there is the truncation's (≥ 10× the round-off of the plain
+/// kernel, measured in docs/taylor.md), so the extra precision would buy nothing.
+pub(crate) const PLAIN_ABOVE_ULPS: f64 = 512.0;
+
+/// How many coefficients the kernel of P parts computes in P + 1 parts at tolerance `eps`:
+/// none when `eps` ≥ [`PLAIN_ABOVE_ULPS`] units of its round-off; else x₁, x₂ for f64 (the
+/// leading terms of the update: its floor drops ~10× from plain f64) and x₁, x₂, x₃ for
 /// double-double, whose floor is set by the rounding of x₃τ³ otherwise (measured in
-/// docs/taylor.md).
-fn ext_orders(p: usize) -> usize {
-    if p == 1 {
+/// docs/taylor.md). The state and the update stay compensated (P + 1 parts) either way.
+fn ext_orders(p: usize, eps: f64) -> usize {
+    if eps >= PLAIN_ABOVE_ULPS * 2f64.powi(-53 * p as i32) {
+        0
+    } else if p == 1 {
         2
     } else {
         3
@@ -423,7 +437,7 @@ impl Taylor {
             order,
             tolerances: self.tolerances,
             grid: &grid,
-            ext: ext_orders(P),
+            ext: ext_orders(P, eps),
         };
         run_on::<P, K>(path, &layout, input, settings).map(Some)
     }

@@ -23,8 +23,8 @@
 // compiled without the path's features).
 #![allow(clippy::needless_range_loop)]
 
-use super::expansion::{exact_scale, mul, Acc, Lanes, Scalar};
-use super::layout::{Layout, LANES, NMAX, ROWS};
+use super::expansion::{exact_scale, mul, Acc, Lanes};
+use super::layout::{Layout, PermSpec, LANES, NMAX, ROWS};
 use super::simd::{Isa, Row8};
 use crate::state::DIM;
 
@@ -96,6 +96,27 @@ impl<const K: usize> SlotCoefficients<K> {
     }
 }
 
+/// The N terms as lane rows (see [`LaneSeries`]): for each row t, where each lane's factor
+/// comes from, and the coefficients.
+fn n_rows<const P: usize>(terms: &[NCoef<P>]) -> (Vec<PermSpec>, Vec<[Row8; P]>) {
+    let mut perms: Vec<PermSpec> = Vec::new();
+    let mut scales: Vec<[Row8; P]> = Vec::new();
+    let mut count = [0usize; NMAX];
+    for t in terms {
+        let row = count[t.n];
+        count[t.n] += 1;
+        if perms.len() <= row {
+            perms.push([None; LANES]);
+            scales.push([Row8::default(); P]);
+        }
+        perms[row][t.n] = Some(t.pos);
+        for i in 0..P {
+            scales[row][i].0[t.n] = t.coef[i];
+        }
+    }
+    (perms, scales)
+}
+
 /// 1/(n+1) in `P` parts: successive quotients of the exact residuals (fma).
 fn reciprocal<const P: usize>(n: usize) -> [f64; P] {
     let d = (n + 1) as f64;
@@ -119,12 +140,17 @@ pub(crate) struct LaneSeries<I: Isa, const P: usize> {
     /// Rows whose scales are all exact (±1, ±½, 0 with no lower parts): one multiply per part.
     scale_exact: [bool; ROWS],
     unit: [Row8; ROWS],
-    n_terms: Vec<NCoef<P>>,
-    /// Number of N values.
-    n_count: usize,
+    /// The linear terms of the N values as lane rows: row t holds the t-th term of every N
+    /// value (lane j: N value j), its factors gathered by `perm_n[t]`, its coefficients
+    /// `scale_n[t]`. Lane-wise, so the N values never go through memory on the way from one
+    /// order to the next (a vector load of scalar stores stalls store forwarding).
+    perm_n: Vec<I::P>,
+    scale_n: Vec<[Row8; P]>,
     /// 1/(n+1), n = 0..order, in P parts.
     inv: Vec<[f64; P]>,
     order: usize,
+    /// Guarded Cauchy sums (P ≥ 2; for long sums: see [`Acc`]).
+    guarded: bool,
 }
 
 // The helpers below avoid closures and iterator adapters on purpose: everything here is
@@ -196,8 +222,14 @@ pub(crate) unsafe fn store<I: Isa, const P: usize>(v: &[I::V; P], r: &mut [Row8;
 }
 
 impl<I: Isa, const P: usize> LaneSeries<I, P> {
-    /// A kernel for coefficients 0..=order. Must run on a CPU that has path `I`.
-    pub unsafe fn new(layout: &Layout, coef: &SlotCoefficients<P>, order: usize) -> Self {
+    /// A kernel for coefficients 0..=order, its Cauchy sums `guarded` or not (P ≥ 2). Must
+    /// run on a CPU that has path `I`.
+    pub unsafe fn new(
+        layout: &Layout,
+        coef: &SlotCoefficients<P>,
+        order: usize,
+        guarded: bool,
+    ) -> Self {
         let zero_rows = OrderRows {
             l: [[Row8::default(); P]; ROWS],
             r: [[Row8::default(); P]; ROWS],
@@ -216,10 +248,15 @@ impl<I: Isa, const P: usize> LaneSeries<I, P> {
             scale_l: coef.left,
             scale_exact,
             unit: std::array::from_fn(|r| Row8(layout.unit_lanes(r))),
-            n_terms: coef.n.clone(),
-            n_count: layout.n.len(),
+            perm_n: n_rows::<P>(&coef.n)
+                .0
+                .iter()
+                .map(|p| I::prepare(p))
+                .collect(),
+            scale_n: n_rows::<P>(&coef.n).1,
             inv: (0..=order).map(reciprocal::<P>).collect(),
             order,
+            guarded,
         }
     }
 
@@ -270,16 +307,26 @@ impl<I: Isa, const P: usize> LaneSeries<I, P> {
     /// are not gathered: no later order needs them).
     #[inline(always)]
     pub unsafe fn advance(&mut self, from: usize, to: usize) {
-        type L<I> = Lanes<I>;
         assert!(to <= self.order && from <= to);
         if P == 1 {
             return self.advance_f64(from, to);
         }
+        if self.guarded {
+            self.advance_parts::<true>(from, to)
+        } else {
+            self.advance_parts::<false>(from, to)
+        }
+    }
+
+    /// [`LaneSeries::advance`] for P ≥ 2, the sums guarded (`G`: long sums) or not.
+    #[inline(always)]
+    unsafe fn advance_parts<const G: bool>(&mut self, from: usize, to: usize) {
+        type L<I> = Lanes<I>;
         for n in from..to {
             let rows = &self.rows[..=n];
             // One accumulator for all rows (their sum is what is wanted): fewer registers;
             // the sums' latency chains are still shorter than the work per m.
-            let mut f = Acc::<L<I>, P, true>::zero();
+            let mut f = Acc::<L<I>, P, G>::zero();
             for m in 0..=n {
                 let (a, b) = (rows.get_unchecked(m), rows.get_unchecked(n - m));
                 for r in 0..ROWS {
@@ -287,7 +334,11 @@ impl<I: Isa, const P: usize> LaneSeries<I, P> {
                 }
             }
             let xq = self.times_inv(&f.value(), n);
-            let xn = self.n_values(n);
+            let (q, nv) = (
+                load_block::<I, P>(&self.x[n], false),
+                load_block::<I, P>(&self.x[n], true),
+            );
+            let xn = self.times_inv(&self.n_values(&q, &nv), n);
             store_block::<I, P>(&xq, &mut self.x[n + 1], false);
             store_block::<I, P>(&xn, &mut self.x[n + 1], true);
             if n + 1 < to {
@@ -301,14 +352,43 @@ impl<I: Isa, const P: usize> LaneSeries<I, P> {
     /// pointers, rows\[m\] up and rows\[n − m\] down.
     #[inline(always)]
     unsafe fn advance_f64(&mut self, from: usize, to: usize) {
+        // The newest row xₙ and its factors, in registers: the terms that use them (m = 0 and
+        // m = n) are added last, so the sum over the older rows 1 … n − 1 does not wait for
+        // the previous order (the latency chain from order to order is the gather and a few
+        // additions, not the whole sum).
+        let mut l_new = [I::zero(); ROWS];
+        let mut r_new = [I::zero(); ROWS];
+        let newest = self.rows.get_unchecked(from);
+        for r in 0..ROWS {
+            l_new[r] = I::load(&newest.l[r][0]);
+            r_new[r] = I::load(&newest.r[r][0]);
+        }
+        let x_from = &self.x.get_unchecked(from)[0];
+        let (mut q_prev, mut n_prev) = (I::load(&x_from.q), I::load(&x_from.n));
+        let first = self.rows.get_unchecked(0);
+        let mut l0 = [I::zero(); ROWS];
+        let mut r0 = [I::zero(); ROWS];
+        for r in 0..ROWS {
+            l0[r] = I::load(&first.l[r][0]);
+            r0[r] = I::load(&first.r[r][0]);
+        }
         for n in from..to {
+            // The N values of xₙ₊₁ depend on xₙ only.
+            let inv = I::splat(self.inv.get_unchecked(n)[0]);
+            let mut xn = I::zero();
+            for t in 0..self.perm_n.len() {
+                let x = I::permute(q_prev, n_prev, self.perm_n.get_unchecked(t));
+                xn = I::mul_add(x, I::load(&self.scale_n.get_unchecked(t)[0]), xn);
+            }
+            let xn = I::mul(xn, inv);
+            // m = 1 … n − 1: pairs (m, m + 1), then the last one if n − 1 is odd.
             let base = self.rows.as_ptr();
-            let mut lo = base;
-            let mut hi = base.add(n);
+            let mut lo = base.add(1);
+            let mut hi = base.add(n.saturating_sub(1));
             let mut even = [I::zero(); ROWS];
             let mut odd = [I::zero(); ROWS];
-            // (n + 1) / 2 pairs (m, m + 1), m = 0, 2, …; then m = n if n is even.
-            for _ in 0..n.div_ceil(2) {
+            let interior = n.saturating_sub(1);
+            for _ in 0..interior / 2 {
                 let (a, b, c, d) = (&*lo, &*hi, &*lo.add(1), &*hi.sub(1));
                 for r in 0..ROWS {
                     even[r] = I::mul_add(I::load(&a.l[r][0]), I::load(&b.r[r][0]), even[r]);
@@ -317,70 +397,64 @@ impl<I: Isa, const P: usize> LaneSeries<I, P> {
                 lo = lo.add(2);
                 hi = hi.sub(2);
             }
-            if n % 2 == 0 {
+            if interior % 2 == 1 {
                 let (a, b) = (&*lo, &*hi);
                 for r in 0..ROWS {
                     even[r] = I::mul_add(I::load(&a.l[r][0]), I::load(&b.r[r][0]), even[r]);
+                }
+            }
+            // The terms with the newest row: L₀·Rₙ and, for n ≥ 1, Lₙ·R₀.
+            for r in 0..ROWS {
+                odd[r] = I::mul_add(l0[r], r_new[r], odd[r]);
+                if n >= 1 {
+                    even[r] = I::mul_add(l_new[r], r0[r], even[r]);
                 }
             }
             let mut f = I::add(even[0], odd[0]);
             for r in 1..ROWS {
                 f = I::add(f, I::add(even[r], odd[r]));
             }
-            let inv = I::splat(self.inv.get_unchecked(n)[0]);
             let xq = I::mul(f, inv);
-            // The N values (scalar).
-            let x = &self.x.get_unchecked(n)[0];
-            let mut nv = Row8::default();
-            for t in 0..self.n_terms.len() {
-                let term = self.n_terms.get_unchecked(t);
-                let v = nv.0.get_unchecked_mut(term.n);
-                *v = I::mul_add_f64(term.coef[0], x.get(term.pos), *v);
-            }
-            let xn = I::mul(I::load(&nv), inv);
             let next = &mut self.x.get_unchecked_mut(n + 1)[0];
             I::store(xq, &mut next.q);
             I::store(xn, &mut next.n);
+            (q_prev, n_prev) = (xq, xn);
             if n + 1 < to {
-                let mut q = [I::zero(); P];
-                let mut nn = [I::zero(); P];
-                q[0] = xq;
-                nn[0] = xn;
-                self.gather(n + 1, &q, &nn);
+                (l_new, r_new) = self.gather_f64(n + 1, xq, xn);
             }
         }
     }
 
-    /// The N values of xₙ₊₁ (scalar: their linear terms at order n, times 1/(n+1)).
+    /// [`LaneSeries::gather`] for P = 1, returning the factors (left, right) as well.
     #[inline(always)]
-    unsafe fn n_values(&self, n: usize) -> [I::V; P] {
-        let x = self.x.get_unchecked(n);
-        let mut out = [Row8::default(); P];
-        {
-            let mut g = [Acc::<Scalar<I>, P>::zero(); NMAX];
-            for t in 0..self.n_terms.len() {
-                let term = self.n_terms.get_unchecked(t);
-                let mut v = [0.0; P];
-                for i in 0..P {
-                    v[i] = x[i].get(term.pos);
-                }
-                g[term.n].add_prod(&term.coef, &v);
+    unsafe fn gather_f64(&mut self, m: usize, q: I::V, n: I::V) -> ([I::V; ROWS], [I::V; ROWS]) {
+        let out = self.rows.get_unchecked_mut(m);
+        let mut l = [I::zero(); ROWS];
+        let mut r = [I::zero(); ROWS];
+        for k in 0..ROWS {
+            l[k] = I::mul(
+                I::permute(q, n, &self.perm_l[k]),
+                I::load(&self.scale_l[k][0]),
+            );
+            r[k] = I::permute(q, n, &self.perm_r[k]);
+            if m == 0 {
+                r[k] = I::add(r[k], I::load(&self.unit[k]));
             }
-            for j in 0..self.n_count {
-                let mut v = g[j].value();
-                if (n + 1).is_power_of_two() {
-                    for p in &mut v {
-                        *p *= self.inv[n][0];
-                    }
-                } else {
-                    v = mul::<Scalar<I>, P>(&v, &self.inv[n]);
-                }
-                for i in 0..P {
-                    out[i].0[j] = v[i];
-                }
-            }
+            I::store(l[k], &mut out.l[k][0]);
+            I::store(r[k], &mut out.r[k][0]);
         }
-        load::<I, P>(&out)
+        (l, r)
+    }
+
+    /// f(x)ₙ of the N values (lanes 0..NMAX), from xₙ (Q lanes `q`, N values `n`).
+    #[inline(always)]
+    unsafe fn n_values(&self, q: &[I::V; P], n: &[I::V; P]) -> [I::V; P] {
+        let mut g = Acc::<Lanes<I>, P>::zero();
+        for t in 0..self.perm_n.len() {
+            let x = permute::<I, P>(q, n, self.perm_n.get_unchecked(t));
+            g.add_prod(&x, &load::<I, P>(self.scale_n.get_unchecked(t)));
+        }
+        g.value()
     }
 
     /// f · 1/(n+1): exact scaling when n + 1 is a power of two, else a P-part product.

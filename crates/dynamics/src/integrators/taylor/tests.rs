@@ -29,7 +29,7 @@ fn series_on<const P: usize>(
         x0: &[Row16; P],
         order: usize,
     ) -> Vec<[Row16; P]> {
-        let mut s = LaneSeries::<I, P>::new(layout, coef, order);
+        let mut s = LaneSeries::<I, P>::new(layout, coef, order, true);
         s.set(0, x0);
         s.advance(0, order);
         s.x.clone()
