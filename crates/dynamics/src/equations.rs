@@ -295,6 +295,8 @@ struct Term<T> {
 /// The Euler–Poisson vector field for given field strengths, ready to evaluate in scalar `T`.
 #[derive(Clone, Debug)]
 pub struct VectorField<T> {
+    /// The table the field was built from.
+    table: [Component; DIM],
     terms: Vec<Vec<Term<T>>>,
     /// Built from [`EULER_POISSON`] itself: the const-unrolled kernel applies.
     standard: bool,
@@ -369,6 +371,7 @@ impl<T: Real> VectorField<T> {
             }
         }
         Self {
+            table: *table,
             terms,
             standard,
             quad_c,
@@ -383,6 +386,11 @@ impl<T: Real> VectorField<T> {
     /// limb-level MPFR kernel is built from this list.
     pub(crate) fn flat_terms(&self) -> (&[FlatTerm<T>], &[FlatLinearTerm<T>]) {
         (&self.quad, &self.lin)
+    }
+
+    /// The table of equations the field was built from.
+    pub fn table(&self) -> &[Component; DIM] {
+        &self.table
     }
 
     /// dx/dt = f(x).

@@ -26,12 +26,24 @@
 //! **Files**: `mod.rs` (this: the method's settings, order rule, dispatch by scalar),
 //! `generic.rs` (the stepper written once over any [`Real`]: the path of every scalar without a
 //! dedicated kernel), `mp.rs` (the limb-level coefficient kernel of taylor-mp, which the
-//! generic stepper calls for MPFR scalars).
+//! generic stepper calls for MPFR scalars), `fast.rs` (the stepper of taylor-f64 and taylor-dd
+//! on the lane kernel), `layout.rs`, `series.rs`, `expansion.rs` (the lane layout generated
+//! from the table, the lane Cauchy sums, f64 expansion arithmetic) and `simd/` (the code paths
+//! picked at run time: AVX-512, AVX2+FMA, portable; `RSTS_SIMD`).
 
+mod expansion;
+mod fast;
 mod generic;
+mod layout;
 mod mp;
+mod series;
+pub mod simd;
+#[cfg(test)]
+mod tests;
 
+pub use fast::LANE_EXTRA_BITS;
 pub use mp::{MpfrKernel, MpfrKernelChoice, MAX_DEFAULT_LIMBS as MPFR_MAX_DEFAULT_LIMBS};
+pub use simd::{SimdPath, SIMD_ENV};
 
 use crate::equations::VectorField;
 use crate::error::DynamicsError;
@@ -55,6 +67,9 @@ pub struct Taylor {
     /// The coefficient kernel in MPFR (`taylor-mp`); `None`: from the environment variable
     /// [`MpfrKernelChoice::ENV`], default the limb-level kernel.
     pub mpfr_kernel: Option<MpfrKernelChoice>,
+    /// The code path of the lane kernels (taylor-f64, taylor-dd); `None`: the one `RSTS_SIMD`
+    /// names, else the best this CPU has ([`SimdPath`]).
+    pub simd: Option<SimdPath>,
 }
 
 impl Taylor {
@@ -67,6 +82,7 @@ impl Taylor {
             tolerances,
             compensated: true,
             mpfr_kernel: None,
+            simd: None,
         }
     }
 
@@ -74,6 +90,14 @@ impl Taylor {
     pub fn with_mpfr_kernel(self, kernel: MpfrKernelChoice) -> Self {
         Self {
             mpfr_kernel: Some(kernel),
+            ..self
+        }
+    }
+
+    /// The same method on a given code path (tests force each one).
+    pub fn with_simd(self, path: SimdPath) -> Self {
+        Self {
+            simd: Some(path),
             ..self
         }
     }
@@ -110,8 +134,8 @@ impl Taylor {
         let unit = 2f64.powi(-(bits.min(1000) as i32));
         if rtol < unit {
             return Err(DynamicsError::Settings(format!(
-                "rtol = {rtol:e} is below the unit round-off {unit:.2e} of a {bits}-bit scalar; \
-                 use a wider scalar (taylor-dd: 106 bits, taylor-mp with more digits)"
+                "rtol = {rtol:e} is below {unit:.2e} = 2^-{bits}, the unit round-off this method \
+                 can deliver; use a wider scalar (taylor-dd, taylor-mp with more digits)"
             )));
         }
         let eps = rtol.min(atol).max(unit);
@@ -148,6 +172,9 @@ impl Taylor {
         problem: &Problem<T>,
         grid: &OutputGrid,
     ) -> Result<Solution<T>, DynamicsError> {
+        if let Some(sol) = self.propagate_lanes(&field, problem, grid)? {
+            return Ok(sol);
+        }
         generic::propagate(self, field, problem, grid)
     }
 }
