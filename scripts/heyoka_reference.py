@@ -15,6 +15,7 @@ scripts/adapters/heyoka_adapter.py f64"` (docs/benchmarks.md).
 """
 
 import argparse
+import os
 import json
 import statistics
 import sys
@@ -32,28 +33,8 @@ getcontext().prec = 80
 FORMAT = "rsts-reference-1"
 
 
-def bits_for_digits(digits):
-    # Same rule as rsts_dynamics::scalar::bits_for_digits: ceil(digits * log2(10)) + 8.
-    import math
-
-    return math.ceil(digits * math.log2(10)) + 8
-
-
-def equations():
-    """The right-hand side, component by component as in crates/dynamics/src/equations.rs."""
-    w1, w2, w3, a1, a2, a3, b1, b2, b3 = hy.make_vars("w1", "w2", "w3", "a1", "a2", "a3", "b1", "b2", "b3")
-    pa, pb = hy.par[0], hy.par[1]
-    return [
-        (w1, 0.5 * w2 * w3 + 0.5 * pb * b3),
-        (w2, -0.5 * w1 * w3 - 0.5 * pa * a3),
-        (w3, pa * a2 - pb * b1),
-        (a1, a2 * w3 - a3 * w2),
-        (a2, a3 * w1 - a1 * w3),
-        (a3, a1 * w2 - a2 * w1),
-        (b1, b2 * w3 - b3 * w2),
-        (b2, b3 * w1 - b1 * w3),
-        (b3, b1 * w2 - b2 * w1),
-    ]
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "adapters"))
+from heyoka_adapter import bits_for_digits, equations  # noqa: E402  (the equations written once)
 
 
 def converter(method, bits):

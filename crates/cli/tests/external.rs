@@ -361,3 +361,101 @@ fn heyoka_adapter_matches_our_taylor_methods() {
     }
     assert!(mp_rows[1]["max_error"].as_f64().unwrap() < 1e-30);
 }
+
+/// A suite names an adapter and uses it like a built-in method; `validate --exec` runs a
+/// program through every case; a failing program is a run error naming it.
+#[test]
+fn suites_run_adapters_like_methods() {
+    let adapter = adapter_rk4();
+    let suite = tmp("adapters.toml");
+    std::fs::write(
+        &suite,
+        format!(
+            r#"name = "mine"
+[defaults]
+t_end = 5.0
+samples = 21
+closed_form = false
+[adapters.my-rk4]
+command = ["{}"]
+timeout = 60
+[[case]]
+name = "I"
+m = 0.3
+h = -0.375
+methods = ["dop853", "my-rk4"]
+tolerances = [1e-10]
+[case.thresholds]
+max_state_error = 1e-6
+"#,
+            adapter.display()
+        ),
+    )
+    .unwrap();
+    let dir = tmp("suite-report");
+    let out = rsts(&[
+        "validate",
+        "--suite",
+        suite.to_str().unwrap(),
+        "--report",
+        dir.to_str().unwrap(),
+        "--jobs",
+        "2",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
+    let runs = report["runs"].as_array().expect("runs");
+    let mine = runs
+        .iter()
+        .find(|r| r["id"] == "I/t0/my-rk4@1e-10")
+        .unwrap_or_else(|| panic!("{runs:?}"));
+    assert_eq!(mine["status"], "pass");
+    assert_eq!(mine["method"], "my-rk4");
+    let e = mine["figures"]["max_state_error"].as_f64().unwrap();
+    assert!(e > 0.0 && e < 1e-6, "{e:e}");
+
+    // The whole suite through one program given on the command line; it fails: exit 1.
+    let bad = script(
+        "bad-adapter.sh",
+        "cat > /dev/null\necho 'segfault in my code' >&2\nexit 139",
+    );
+    let dir = tmp("suite-exec");
+    let out = rsts(&[
+        "validate",
+        "--suite",
+        suite.to_str().unwrap(),
+        "--report",
+        dir.to_str().unwrap(),
+        "--exec",
+        &bad,
+        "--exec-name",
+        "mine",
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(err.contains("I/t0/mine@1e-10"), "{err}");
+    let report = std::fs::read_to_string(dir.join("report.json")).unwrap();
+    assert!(
+        report.contains("segfault in my code"),
+        "the run's error keeps the stderr"
+    );
+
+    // An adapter named like a built-in method, or without a program, is a suite error.
+    for (text, expect) in [
+        ("[adapters.dop853]\ncommand = [\"x\"]\n", "built-in"),
+        ("[adapters.x]\ncommand = []\n", "command"),
+    ] {
+        let bad_suite = tmp("bad-adapters.toml");
+        std::fs::write(
+            &bad_suite,
+            format!("{text}[[case]]\nname = \"c\"\nm = 0.3\nh = -0.375\n"),
+        )
+        .unwrap();
+        let err = exit_2(
+            &rsts(&["validate", "--suite", bad_suite.to_str().unwrap(), "--list"]),
+            text,
+        );
+        assert!(err.contains(expect), "{text}: {err}");
+    }
+}
