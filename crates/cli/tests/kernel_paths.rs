@@ -71,7 +71,10 @@ fn every_simd_path_runs_end_to_end_and_agrees() {
         if !path.available() {
             let err = String::from_utf8_lossy(&out.stderr);
             assert_eq!(out.status.code(), Some(2), "{path}: {err}");
-            assert!(err.contains(SIMD_ENV) && err.contains("cannot run"), "{err}");
+            assert!(
+                err.contains(SIMD_ENV) && err.contains("cannot run"),
+                "{err}"
+            );
             rsts_io::report_skip(
                 "every_simd_path_runs_end_to_end_and_agrees",
                 &format!("this CPU has no {path} path (refused with exit 2, as it should)"),
@@ -83,7 +86,11 @@ fn every_simd_path_runs_end_to_end_and_agrees() {
         assert_eq!(rows.len(), 3, "{path}: {rows:?}");
         for (method, tol, err, steps) in &rows {
             assert!(*steps > 0, "{path} {method}");
-            let bound = if method == "taylor-f64" { 1e-12 } else { 1e3 * tol };
+            let bound = if method == "taylor-f64" {
+                1e-12
+            } else {
+                1e3 * tol
+            };
             assert!(
                 *err <= bound,
                 "{path}: {method} at {tol:e}: error {err:e} > {bound:e}"
