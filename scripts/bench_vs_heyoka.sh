@@ -14,7 +14,8 @@
 #
 # Options are those of `scripts/bench_vs_heyoka.py run --help`. Output: the table on stdout
 # (markdown), progress on stderr, every run's rows under out/bench-vs-heyoka/ (--out DIR).
-# Takes 10-30 minutes on 2 shared cores.
+# Takes 10-40 minutes on 2 shared cores; `--cases I+ --rounds 1 --quick --skip-closed-form`
+# about 5 (docs/benchmarks.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=.venv-adapters/bin/python
