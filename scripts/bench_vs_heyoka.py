@@ -170,6 +170,17 @@ def alternate(runner, ours_args, peer_args, rounds):
     return pairs, first
 
 
+def timed(runner, ours_args, peer_args, rounds):
+    """The alternated rounds at the chosen tolerances: tolerances, errors, steps, us per step
+    (median time / steps) on each side and the ratios."""
+    pairs, (ro, rp) = alternate(runner, ours_args, peer_args, rounds)
+    return dict(ours_tol=ro["tolerance"], peer_tol=rp["tolerance"], ours_error=ro["max_error"],
+                peer_error=rp["max_error"], steps=(ro["steps"], rp["steps"]),
+                ours_us_per_step=1e6 * statistics.median(x for x, _ in pairs) / ro["steps"],
+                peer_us_per_step=1e6 * statistics.median(y for _, y in pairs) / rp["steps"],
+                ratio=ratios(pairs))
+
+
 def measure_case(runner, rounds, quick):
     result = {"case": runner.case[0], "m": runner.case[1], "h": runner.case[2]}
 
@@ -183,13 +194,8 @@ def measure_case(runner, rounds, quick):
            "ours_rows": ours, "peer_rows": peer}
     f64["floor_ratio"] = f64["ours_floor"] / f64["peer_floor"]
     if o and p:
-        pairs, (ro, rp) = alternate(runner, ("taylor-f64", [o["tolerance"]], 31),
-                                    ("f64", [p["tolerance"]], 31), rounds)
-        f64.update(ours_tol=o["tolerance"], peer_tol=p["tolerance"], ours_error=ro["max_error"],
-                   peer_error=rp["max_error"], steps=(ro["steps"], rp["steps"]),
-                   ours_us_per_step=1e6 * statistics.median(x for x, _ in pairs) / ro["steps"],
-                   peer_us_per_step=1e6 * statistics.median(y for _, y in pairs) / rp["steps"],
-                   ratio=ratios(pairs))
+        f64.update(timed(runner, ("taylor-f64", [o["tolerance"]], 31),
+                         ("f64", [p["tolerance"]], 31), rounds))
     result["f64"] = f64
 
     # Extended: taylor-dd reaching 1e-31 against heyoka real128 at its best error.
@@ -203,13 +209,8 @@ def measure_case(runner, rounds, quick):
     # Not reached: compare our best error's run instead (and say so).
     o = o or best(ours)
     p = best(peer)
-    pairs, (ro, rp) = alternate(runner, ("taylor-dd", [o["tolerance"]], 5),
-                                ("real128", [p["tolerance"]], 5), rounds)
-    ext.update(ours_tol=o["tolerance"], peer_tol=p["tolerance"], ours_error=ro["max_error"],
-               peer_error=rp["max_error"], steps=(ro["steps"], rp["steps"]),
-               ours_us_per_step=1e6 * statistics.median(x for x, _ in pairs) / ro["steps"],
-               peer_us_per_step=1e6 * statistics.median(y for _, y in pairs) / rp["steps"],
-               ratio=ratios(pairs))
+    ext.update(timed(runner, ("taylor-dd", [o["tolerance"]], 5),
+                     ("real128", [p["tolerance"]], 5), rounds))
     result["extended"] = ext
 
     # MPFR at 90 digits: the cheapest tolerance reaching 1e-70 on each side.
@@ -222,13 +223,8 @@ def measure_case(runner, rounds, quick):
     mp = {"ours_floor": best(ours)["max_error"], "peer_floor": best(peer)["max_error"],
           "ours_rows": ours, "peer_rows": peer}
     if o and p:
-        pairs, (ro, rp) = alternate(runner, ("taylor-mp", [o["tolerance"]], 3, MP_DIGITS),
-                                    ("mpfr", [p["tolerance"]], 3, MP_DIGITS), rounds)
-        mp.update(ours_tol=o["tolerance"], peer_tol=p["tolerance"], ours_error=ro["max_error"],
-                  peer_error=rp["max_error"], steps=(ro["steps"], rp["steps"]),
-                  ours_us_per_step=1e6 * statistics.median(x for x, _ in pairs) / ro["steps"],
-                  peer_us_per_step=1e6 * statistics.median(y for _, y in pairs) / rp["steps"],
-                  ratio=ratios(pairs))
+        mp.update(timed(runner, ("taylor-mp", [o["tolerance"]], 3, MP_DIGITS),
+                        ("mpfr", [p["tolerance"]], 3, MP_DIGITS), rounds))
     result["mpfr"] = mp
     return result
 
@@ -399,6 +395,18 @@ def cmd_selftest(_args):
     # 1904 + 64 multiply-adds in 1 us at 1 GHz with 8 FMAs per cycle: 24.6 % of peak.
     assert abs(peak_fraction("f64", 1e-13, 1.0, 1.0) - 1968 / 8000) < 1e-12
     assert abs(peak_fraction("mpfr", 1e-70, 1.0, 1.0) - (14 * 82 * 83 // 2 + 328) * 25 / 1000) < 1e-9
+    class Fake:  # a runner whose runs take 2 s (ours) and 4 s (heyoka) for 100 steps
+        def ours(self, method, tols, repeats, digits=None):
+            return [{"tolerance": tols[0], "max_error": 1e-14, "integration_seconds": 2e-4,
+                     "steps": 100}]
+
+        def peer(self, method, tols, repeats, digits=None):
+            return [{"tolerance": tols[0], "max_error": 3e-14, "integration_seconds": 4e-4,
+                     "steps": 100}]
+    t = timed(Fake(), ("taylor-f64", [1e-13], 1), ("f64", [1e-12], 1), 2)
+    assert (t["ours_tol"], t["peer_tol"], t["steps"]) == (1e-13, 1e-12, (100, 100)), t
+    assert abs(t["ours_us_per_step"] - 2.0) < 1e-12 and abs(t["peer_us_per_step"] - 4.0) < 1e-12
+    assert t["ratio"]["median"] == 0.5 and len(t["ratio"]["rounds"]) == 2, t
     print("selftest ok")
 
 
