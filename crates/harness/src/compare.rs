@@ -2,7 +2,7 @@
 
 use rsts_closed_form::ExplicitMotion;
 use rsts_dynamics::integrals::integrals;
-use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem};
+use rsts_dynamics::integrators::{map_problem, MethodConfig, OutputGrid, Problem};
 use rsts_dynamics::scalar::{bits_for_digits, digits_for_bits};
 use rsts_dynamics::{Fields, State};
 use rug::Float;
@@ -73,6 +73,26 @@ pub fn reference_bits(config: &MethodConfig) -> u32 {
     config.working_bits().max(bits_for_digits(30)) + REFERENCE_GUARD_BITS
 }
 
+/// Check a comparison before any work or output is done: the case (finite numbers, a point of
+/// N off Σ within the documented ranges, an existing torus), the grid, and the method's step
+/// budget over the whole grid ([`MethodConfig::check_budget`]: a hopeless run is refused at once
+/// with its estimate, not after hours).
+pub fn preflight(case: &Case, config: &MethodConfig) -> Result<(), HarnessError> {
+    let bits = reference_bits(config);
+    let (motion, fields) = case.reference_motion(bits)?;
+    let grid = OutputGrid::new(case.t_end, case.samples)?;
+    let start = exact_state(&motion.at(&Float::with_val(bits, 0.0)));
+    let problem = map_problem(
+        &Problem {
+            fields,
+            initial: start,
+        },
+        Float::to_f64,
+    );
+    config.check_budget(&problem, &grid)?;
+    Ok(())
+}
+
 /// Compare `config` with the closed form along `case`.
 pub fn compare(
     case: &Case,
@@ -91,6 +111,16 @@ pub fn compare(
     };
     let grid = OutputGrid::new(case.t_end, case.samples)?;
     let start = exact_state(&motion.at(&f(0.0)));
+    config.check_budget(
+        &map_problem(
+            &Problem {
+                fields: fields.clone(),
+                initial: start.clone(),
+            },
+            Float::to_f64,
+        ),
+        &grid,
+    )?;
     let i0 = integrals(&fields, &start);
     let initial_integrals = [i0.h, i0.k, i0.g];
     let mut report = Report {

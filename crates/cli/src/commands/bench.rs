@@ -172,11 +172,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     for &method in &methods {
         for &tol in &args.tolerances {
             let tolerances = Tolerances::new(tol, tol)?;
-            let mut config = MethodConfig::new(method, tolerances, None)?;
-            if method == MethodName::TaylorMp {
-                config = config.with_digits(mp_digits).context("--digits")?;
-            }
-            let bits = config.working_bits();
+            let bits = method.working_bits(mp_digits);
             let unit = 2f64.powi(-(bits.min(1000) as i32));
             if tol < unit {
                 eprintln!(
@@ -184,6 +180,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                     label_of(method, mp_digits)
                 );
                 continue;
+            }
+            let mut config = MethodConfig::new(method, tolerances, None)?;
+            if method == MethodName::TaylorMp {
+                config = config.with_digits(mp_digits).context("--digits")?;
             }
             jobs.push(config);
         }

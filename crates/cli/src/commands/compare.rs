@@ -2,9 +2,7 @@
 //! along the motion; report errors, drifts and cost; optionally log everything to MCAP.
 
 use std::io::{IsTerminal, Write};
-use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context};
@@ -12,10 +10,11 @@ use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
-use rsts_harness::{compare, Case, Observer, Report, SampleRecord};
+use rsts_harness::{compare, preflight, Case, Observer, Report, SampleRecord};
 use rsts_mcap::{BodyState, ErrorSample, Metadata, Sample, TrajectoryLog};
 
-use crate::args::{count, finite_f64, CaseArgs, MethodArgs, MAX_SAMPLES};
+use crate::args::{case_error, count, finite_f64, CaseArgs, MethodArgs, MAX_SAMPLES};
+use crate::interrupt;
 use crate::output::{self, Format};
 
 /// Shown at the end of `rsts compare --help`.
@@ -31,7 +30,9 @@ Examples:
   rsts compare --method taylor-mp --digits 60 --rtol 1e-55 --atol 1e-55 --t-end 20 --samples 21
 
 Open the MCAP file in Foxglove or Lichtblick (Open local file); see docs/mcap.md for the channels.
-Ctrl-C stops the run after the current piece and still leaves a complete, readable MCAP file.";
+The MCAP file appears only when complete (an existing file is replaced then, never damaged).
+Ctrl-C stops the run after the current piece and still writes a complete, readable MCAP file of
+what was compared (exit code 130); a second Ctrl-C exits at once and leaves any previous file.";
 
 /// Options of `rsts compare`.
 #[derive(Debug, Clone, ClapArgs)]
@@ -52,7 +53,7 @@ pub struct Args {
     /// Write the comparison to this MCAP file (Foxglove schemas)
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
-    /// Output format of the report
+    /// Output format of the report (csv: one header line and one row, the JSON fields flattened)
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
 }
@@ -80,7 +81,6 @@ struct CliObserver {
     bar: ProgressBar,
     shown: bool,
     started: Instant,
-    stop: Arc<AtomicBool>,
 }
 
 fn body(s: &rsts_harness::StateSnapshot) -> BodyState {
@@ -112,7 +112,7 @@ impl Observer for CliObserver {
                     off_n: e.off_n,
                 }),
             })
-            .map_err(|e| format!("writing the MCAP file: {e}"))?;
+            .map_err(|e| format!("writing the MCAP file: {}", rsts_io::error_text(&e)))?;
         }
         // Show the bar only for runs longer than a second, and only on a terminal.
         if !self.shown
@@ -127,7 +127,7 @@ impl Observer for CliObserver {
     }
 
     fn should_stop(&self) -> bool {
-        self.stop.load(Ordering::SeqCst)
+        interrupt::requested()
     }
 }
 
@@ -140,7 +140,11 @@ struct Document<'a> {
     mcap: Option<String>,
 }
 
+/// Bytes an MCAP log takes per sample (measured: 2000 samples of the default case, 2.44 MB).
+const MCAP_BYTES_PER_SAMPLE: f64 = 1300.0;
+
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
+    // Everything is checked before any output exists.
     if args.samples > MAX_SAMPLES {
         bail!(
             "--samples: at most {MAX_SAMPLES} samples are supported, got {}",
@@ -152,14 +156,19 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         config = config.with_digits(d).context("--digits")?;
     }
     let case = args.case();
-    case.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
+    case.validate().map_err(case_error)?;
+    preflight(&case, &config).map_err(case_error)?;
+    if let Some(path) = &args.mcap {
+        output::check_output_bytes(
+            "--samples",
+            "the MCAP log",
+            MCAP_BYTES_PER_SAMPLE * args.samples as f64,
+        )?;
+        rsts_io::check_writable(path).with_context(|| format!("--mcap {}", path.display()))?;
+    }
     let log = match &args.mcap {
         None => None,
         Some(path) => {
-            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir)
-                    .with_context(|| format!("--mcap: cannot create {}", dir.display()))?;
-            }
             let integrator = serde_json::json!({
                 "method": config.method.as_str(),
                 "rtol": config.tolerances.rtol,
@@ -173,20 +182,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             )?;
             Some(
                 TrajectoryLog::create(path, &meta)
-                    .with_context(|| format!("--mcap {}", path.display()))?,
+                    .map_err(|e| anyhow::anyhow!("--mcap: {}", rsts_io::error_text(&e)))?,
             )
         }
     };
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        // A second Ctrl-C exits at once (the MCAP file then keeps all but the open chunk).
-        let _ = ctrlc::set_handler(move || {
-            if stop.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-        });
-    }
+    // The first Ctrl-C stops after the current piece (the report and the log cover what was
+    // done); a second one exits at once and leaves any previous file untouched.
+    interrupt::stop_gracefully();
     let bar =
         ProgressBar::with_draw_target(Some(args.samples as u64), ProgressDrawTarget::hidden());
     bar.set_style(
@@ -201,32 +203,37 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         bar,
         shown: false,
         started: Instant::now(),
-        stop: stop.clone(),
     };
     let result = compare(&case, &config, &mut observer);
     observer.bar.finish_and_clear();
+    // A failed run discards its log (the temporary is removed, a previous file stays).
+    let report = result.map_err(case_error)?;
     let log_stats = match observer.log.take() {
-        Some(log) => Some(log.finish().context("finishing the MCAP file")?),
+        Some(log) => Some(log.finish().map_err(|e| {
+            anyhow::anyhow!(
+                "--mcap {}: {}",
+                args.mcap.as_deref().unwrap_or(Path::new("")).display(),
+                rsts_io::error_text(&e)
+            )
+        })?),
         None => None,
     };
-    let report = result.map_err(|e| anyhow::anyhow!("{e}"))?;
+    check_finite_report(&report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
+    let doc = Document {
+        report: &report,
+        mcap: mcap.clone(),
+    };
     match args.format {
-        Format::Json => output::write_json(
-            out,
-            &Document {
-                report: &report,
-                mcap: mcap.clone(),
-            },
-        )?,
-        Format::Table | Format::Csv => write_table(out, &args, &report)?,
+        Format::Json => output::write_json(out, &doc)?,
+        Format::Csv => output::write_records_csv(out, &[&doc])?,
+        Format::Table => write_table(out, &args, &report)?,
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {
-        writeln!(
-            out,
-            "\nMCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `rsts inspect {path}`.",
+        eprintln!(
+            "MCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `target/release/rsts inspect {path}`.",
             stats.samples, stats.messages
-        )?;
+        );
     }
     if !report.complete {
         out.flush()?;
@@ -235,6 +242,25 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             report.samples_compared, args.samples
         ))
         .into());
+    }
+    Ok(())
+}
+
+/// A non-finite figure is an error naming it, never a number printed with exit 0.
+fn check_finite_report(r: &Report) -> anyhow::Result<()> {
+    for (name, x) in [
+        ("max state error", r.max_state_error),
+        ("final state error", r.final_state_error),
+        ("max orientation error", r.max_orientation_error),
+        ("drift of H", r.drift.h),
+        ("drift of K", r.drift.k),
+        ("drift of G", r.drift.g),
+        ("constraint drift", r.drift.constraints),
+        ("distance from N", r.drift.off_n),
+    ] {
+        if !x.is_finite() {
+            bail!("the comparison produced a non-finite {name} ({x}): the integrated motion left f64's range");
+        }
     }
     Ok(())
 }

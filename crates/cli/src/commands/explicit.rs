@@ -97,23 +97,42 @@ pub struct Args {
     pub format: Format,
 }
 
+/// A number of the JSON document: an f64 number when the run is in f64, a decimal string at
+/// `--digits` (more digits than an f64 number holds).
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+enum Number {
+    F64(f64),
+    Decimal(String),
+}
+
+impl Number {
+    fn cell(&self, table: bool) -> Cell {
+        match self {
+            Number::F64(x) => Cell::Num(*x),
+            Number::Decimal(s) if table => s.parse().map_or(Cell::Text(s.clone()), Cell::Num),
+            Number::Decimal(s) => Cell::Text(s.clone()),
+        }
+    }
+}
+
 #[derive(Debug, Serialize)]
 struct Sample {
-    t: String,
-    omega: [String; 3],
-    alpha: [String; 3],
-    beta: [String; 3],
-    gamma: [String; 3],
+    t: Number,
+    omega: [Number; 3],
+    alpha: [Number; 3],
+    beta: [Number; 3],
+    gamma: [Number; 3],
     #[serde(rename = "Omega")]
-    omega_fixed: [String; 3],
+    omega_fixed: [Number; 3],
 }
 
 #[derive(Debug, Serialize)]
 struct Document {
-    a: String,
-    b: String,
-    m: String,
-    h: String,
+    a: Number,
+    b: Number,
+    m: Number,
+    h: Number,
     camera: String,
     tori: usize,
     torus: usize,
@@ -176,25 +195,50 @@ fn run_in<T: Scalar>(
     if t_end < t_end.zero_like() {
         bail!("--t-end: must be non-negative, got {}", args.t_end);
     }
+    let t_max = t_end.to_f64();
+    if !t_max.is_finite() {
+        bail!("--t-end: at most {:e} (the largest f64), got {}", f64::MAX, args.t_end);
+    }
     let choice = TorusChoice {
         torus: args.torus,
         phase1: args.phase1,
         phase2: args.phase2,
     };
-    let motion = ExplicitMotion::new(a?, b?, m?, h?, choice)?;
+    // The phase clock carries as many bits as T needs: the state at t = 1e300 is the motion's.
+    let motion =
+        ExplicitMotion::new_until(a?, b?, m?, h?, choice, t_max).map_err(crate::args::case_error)?;
     let n = args.samples;
-    let text = |x: &T| x.to_decimal(digits);
-    let v3 = |v: &Vec3<T>| [text(&v[0]), text(&v[1]), text(&v[2])];
+    let mp = digits > 17 || bits > F64_BITS;
+    let num = |x: &T| {
+        if mp {
+            Number::Decimal(x.to_decimal(digits))
+        } else {
+            Number::F64(x.to_f64())
+        }
+    };
+    let v3 = |v: &Vec3<T>| [num(&v[0]), num(&v[1]), num(&v[2])];
+    // t_k = T·k/(N−1), computed with guard bits and rounded once (T·k may overflow f64).
+    let wide = bits.max(F64_BITS) + 64;
+    let t_big = t_end.to_mpfr(wide);
     let mut samples = Vec::with_capacity(n);
     for k in 0..n {
-        let t = if n == 1 {
+        let t: T = if n == 1 {
             t_end.zero_like()
+        } else if k + 1 == n {
+            t_end.clone()
         } else {
-            t_end.clone() * t_end.lit(k as f64) / t_end.lit((n - 1) as f64)
+            T::from_mpfr(&(Float::with_val(wide, &t_big * k as u64) / (n - 1) as u64), bits)
         };
         let s = motion.at(&t);
+        let all = [&s.omega, &s.alpha, &s.beta, &s.gamma, &s.omega_fixed];
+        if all.iter().any(|v| (0..3).any(|i| !v[i].is_finite())) {
+            bail!(
+                "the closed form is not finite at t = {} (sample {k} of {n})",
+                rsts_dynamics::short(t.to_f64())
+            );
+        }
         samples.push(Sample {
-            t: text(&t),
+            t: num(&t),
             omega: v3(&s.omega),
             alpha: v3(&s.alpha),
             beta: v3(&s.beta),
@@ -204,10 +248,10 @@ fn run_in<T: Scalar>(
     }
     let c = &motion.constants;
     let doc = Document {
-        a: text(&c.a),
-        b: text(&c.b),
-        m: text(&c.m),
-        h: text(&c.h),
+        a: num(&c.a),
+        b: num(&c.b),
+        m: num(&c.m),
+        h: num(&c.h),
         camera: motion.camera.label().to_string(),
         tori: motion.tori,
         torus: args.torus,
@@ -216,6 +260,7 @@ fn run_in<T: Scalar>(
         digits,
         samples,
     };
+    let text = |x: &T| x.to_decimal(digits);
     match args.format {
         Format::Json => output::write_json(out, &doc)?,
         Format::Csv | Format::Table => {
@@ -230,19 +275,13 @@ fn run_in<T: Scalar>(
                 header.extend((1..=n).map(|i| format!("{name}{i}")));
             }
             let mut table = Tabular::new(header);
+            let as_table = args.format == Format::Table && digits <= 17;
             for s in &doc.samples {
-                let mut row = vec![s.t.clone()];
+                let mut row = vec![s.t.cell(as_table)];
                 for v in [&s.omega, &s.alpha, &s.beta, &s.gamma, &s.omega_fixed] {
-                    row.extend(v.iter().cloned());
+                    row.extend(v.iter().map(|x| x.cell(as_table)));
                 }
-                let cells = if args.format == Format::Table && digits <= 17 {
-                    row.iter()
-                        .map(|x| Cell::Num(x.parse().unwrap_or(f64::NAN)))
-                        .collect()
-                } else {
-                    row.into_iter().map(Cell::Text).collect()
-                };
-                table.push(cells);
+                table.push(row);
             }
             if args.format == Format::Csv {
                 output::write_csv(out, &table)?;
@@ -253,8 +292,8 @@ fn run_in<T: Scalar>(
                     &[
                         ("camera", doc.camera.clone()),
                         ("torus", format!("{} of {}", args.torus, motion.tori)),
-                        ("a, b", format!("{}, {}", short(&doc.a), short(&doc.b))),
-                        ("m, h", format!("{}, {}", short(&doc.m), short(&doc.h))),
+                        ("a, b", format!("{}, {}", short(&text(&c.a)), short(&text(&c.b)))),
+                        ("m, h", format!("{}, {}", short(&text(&c.m)), short(&text(&c.h)))),
                         ("periods", format!("{p1:.10}, {p2:.10}")),
                         (
                             "rotation number",

@@ -36,7 +36,7 @@ use super::{OutputGrid, Problem, Propagator, Solution, Stats, Tolerances};
 pub const MAX_ORDER: usize = 400;
 
 /// Maximum number of steps of one run.
-const MAX_STEPS: u64 = 100_000_000;
+pub(super) const MAX_STEPS: u64 = 100_000_000;
 
 /// The Taylor method; the scalar (and so the precision) is that of the [`Problem`].
 #[derive(Clone, Copy, Debug)]
