@@ -14,9 +14,7 @@ mod metrics;
 
 pub use bench::{measure, measure_against, BenchRow, Reference};
 pub use case::Case;
-pub use compare::{
-    compare, preflight, reference_bits, NoObserver, Observer, REFERENCE_GUARD_BITS,
-};
+pub use compare::{compare, preflight, reference_bits, NoObserver, Observer, REFERENCE_GUARD_BITS};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot};
 pub use rsts_dynamics::integrators::MethodConfig;
 

@@ -197,7 +197,11 @@ fn run_in<T: Scalar>(
     }
     let t_max = t_end.to_f64();
     if !t_max.is_finite() {
-        bail!("--t-end: at most {:e} (the largest f64), got {}", f64::MAX, args.t_end);
+        bail!(
+            "--t-end: at most {:e} (the largest f64), got {}",
+            f64::MAX,
+            args.t_end
+        );
     }
     let choice = TorusChoice {
         torus: args.torus,
@@ -205,8 +209,8 @@ fn run_in<T: Scalar>(
         phase2: args.phase2,
     };
     // The phase clock carries as many bits as T needs: the state at t = 1e300 is the motion's.
-    let motion =
-        ExplicitMotion::new_until(a?, b?, m?, h?, choice, t_max).map_err(crate::args::case_error)?;
+    let motion = ExplicitMotion::new_until(a?, b?, m?, h?, choice, t_max)
+        .map_err(crate::args::case_error)?;
     let n = args.samples;
     let mp = digits > 17 || bits > F64_BITS;
     let num = |x: &T| {
@@ -227,7 +231,10 @@ fn run_in<T: Scalar>(
         } else if k + 1 == n {
             t_end.clone()
         } else {
-            T::from_mpfr(&(Float::with_val(wide, &t_big * k as u64) / (n - 1) as u64), bits)
+            T::from_mpfr(
+                &(Float::with_val(wide, &t_big * k as u64) / (n - 1) as u64),
+                bits,
+            )
         };
         let s = motion.at(&t);
         let all = [&s.omega, &s.alpha, &s.beta, &s.gamma, &s.omega_fixed];
@@ -292,8 +299,14 @@ fn run_in<T: Scalar>(
                     &[
                         ("camera", doc.camera.clone()),
                         ("torus", format!("{} of {}", args.torus, motion.tori)),
-                        ("a, b", format!("{}, {}", short(&text(&c.a)), short(&text(&c.b)))),
-                        ("m, h", format!("{}, {}", short(&text(&c.m)), short(&text(&c.h)))),
+                        (
+                            "a, b",
+                            format!("{}, {}", short(&text(&c.a)), short(&text(&c.b))),
+                        ),
+                        (
+                            "m, h",
+                            format!("{}, {}", short(&text(&c.m)), short(&text(&c.h))),
+                        ),
                         ("periods", format!("{p1:.10}, {p2:.10}")),
                         (
                             "rotation number",

@@ -3,6 +3,7 @@
 
 use std::io::Write;
 
+use anyhow::Context;
 use clap::Args as ClapArgs;
 use serde::Serialize;
 
@@ -85,6 +86,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             config.method
         );
     }
+    let options = if config.method == MethodName::Rk4 {
+        "--t-end/--step/--rtol"
+    } else {
+        "--t-end/--rtol/--atol"
+    };
+    config
+        .check_budget(&problem, &grid)
+        .with_context(|| options.to_string())?;
     let mut solution = config.propagate_f64(&problem, &grid)?;
     // With T = 0 the integrators return the initial state once; the grid still has N times.
     if grid.t_end == 0.0 && solution.states.len() == 1 {
@@ -116,6 +125,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             }
         })
         .collect();
+    if let Some(s) = samples
+        .iter()
+        .find(|s| ![s.h, s.k, s.g].iter().all(|x| x.is_finite()))
+    {
+        anyhow::bail!(
+            "the first integrals are not finite at t = {} (the state left f64's range)",
+            rsts_dynamics::short(s.t)
+        );
+    }
     let report = Report {
         a: problem.fields.a,
         b: problem.fields.b,

@@ -29,6 +29,9 @@ Examples:
 Exit code 1 names every run that missed a threshold or regressed (error grown 10x, time grown 2x);
 exit code 2 is bad input (suite, shard, missing baseline). See docs/validation.md.";
 
+/// Most threads per core `--jobs` may ask for (each holds a run's closed form and series).
+pub const MAX_JOBS_PER_CORE: usize = 8;
+
 /// Options of `rsts validate`.
 #[derive(Debug, Clone, ClapArgs)]
 #[command(args_conflicts_with_subcommands = true)]
@@ -38,7 +41,8 @@ pub struct Args {
     /// The suite file (TOML)
     #[arg(long, value_name = "FILE")]
     pub suite: Option<PathBuf>,
-    /// Directory for report.json, report.md and plots/
+    /// Directory for report.json, report.md and plots/ (written whole when the suite is done;
+    /// a new, empty or previous report directory)
     #[arg(long, value_name = "DIR")]
     pub report: Option<PathBuf>,
     /// A previous report.json (or its directory) to check for regressions
@@ -47,7 +51,7 @@ pub struct Args {
     /// Run only shard K of N (1 <= K <= N): the runs whose index in the id-sorted list is K-1 mod N
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
-    /// Threads (default: one per core)
+    /// Threads (default: one per core; at most 8 per core)
     #[arg(long, value_name = "J")]
     pub jobs: Option<usize>,
     /// Only list the run ids (of the shard, if given) and exit
@@ -154,8 +158,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let Some(report_dir) = args.report else {
         bail!("--report DIR is required");
     };
-    if args.jobs == Some(0) {
-        bail!("--jobs must be at least 1");
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let max_jobs = MAX_JOBS_PER_CORE * cores;
+    match args.jobs {
+        Some(0) => bail!("--jobs must be at least 1"),
+        Some(j) if j > max_jobs => bail!(
+            "--jobs: at most {max_jobs} threads ({MAX_JOBS_PER_CORE} per core on this machine's {cores}); more only add memory, got {j}"
+        ),
+        _ => {}
     }
     let opts = Options {
         suite,

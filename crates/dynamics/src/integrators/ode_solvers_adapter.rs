@@ -78,7 +78,10 @@ pub(super) fn solver_error(
             crate::short(x * scale)
         ),
         E::StiffnessDetected { x } => {
-            format!("the problem became stiff at t = {}", crate::short(x * scale))
+            format!(
+                "the problem became stiff at t = {}",
+                crate::short(x * scale)
+            )
         }
     };
     DynamicsError::Integration(format!("{method}: {what}"))
@@ -191,7 +194,6 @@ pub(super) fn initial_only(method: &'static str, initial: &State<f64>) -> Soluti
         stats: Stats::default(),
     }
 }
-
 
 /// Defines an adaptive Dormand–Prince method of `ode_solvers` as a project method: a type with
 /// its name and order as associated constants, configured by [`super::Tolerances`], implementing
