@@ -54,7 +54,8 @@ mod short_tests {
         assert_eq!(short(0.2), "0.2");
         assert_eq!(short(0.1 + 0.2), "0.3");
         assert_eq!(short(-1.15), "-1.15");
-        assert_eq!(short(2e8), "200000000");
+        assert_eq!(short(2e8), "2e8");
+        assert_eq!(short(3000.0), "3000");
         assert_eq!(short(1e9), "1e9");
         assert_eq!(short(1.1102230246251565e-16), "1.11e-16");
         assert_eq!(short(2.5e307), "2.5e307");

@@ -135,6 +135,8 @@ struct Scan {
     saw_data_end: bool,
     /// The summary section and footer are whole and their CRC matches.
     summary_sound: bool,
+    /// Messages whose channel definition was not read (it was in a lost chunk); skipped.
+    orphans: u64,
 }
 
 /// A message as seen by the scan callback.
@@ -176,10 +178,7 @@ impl Scan {
                         data: &data,
                     });
                 }
-                None => self.notes.push(format!(
-                    "message {} refers to unknown channel {}; skipped",
-                    header.sequence, header.channel_id
-                )),
+                None => self.orphans += 1,
             },
             Record::Metadata(m) => self.metadata.push(MetadataRecord {
                 name: m.name,
@@ -262,6 +261,12 @@ fn scan(buf: &[u8], on_msg: &mut dyn FnMut(Msg<'_>)) -> Scan {
         },
         &|| damaged.get(),
     );
+    if s.orphans > 0 {
+        s.notes.push(format!(
+            "{} message(s) refer to channels whose definitions were lost with a damaged chunk; skipped",
+            s.orphans
+        ));
+    }
     s.notes.extend(layout.notes);
     s.saw_data_end = layout.saw_data_end;
     s.summary_sound = layout.summary_sound;

@@ -173,6 +173,11 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         .iter()
         .copied()
         .fold(f64::INFINITY, f64::min);
+    if let Some(d) = args.digits {
+        if !(10..=MAX_MP_DIGITS).contains(&d) {
+            bail!("--digits: must be between 10 and {MAX_MP_DIGITS}, got {d}");
+        }
+    }
     let mp_digits = match args.digits {
         Some(d) => d,
         None => default_mp_digits(smallest),

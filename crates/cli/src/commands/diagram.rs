@@ -70,6 +70,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 h_range: args.h_range,
                 ..DiagramOptions::default()
             };
+            rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
             let svg = diagram_svg(args.fields.a, args.fields.b, &opts).map_err(case_error)?;
             rsts_io::write_atomic(path, svg.as_bytes())
                 .with_context(|| format!("--svg {}", path.display()))?;

@@ -89,8 +89,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                     "--format table is for the summary; a --channel series is csv or json"
                 ),
             };
-            let series = inspect::extract(&args.file, topic)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
+            let series = inspect::extract(&args.file, topic).map_err(|e| match e {
+                inspect::InspectError::UnknownTopic { .. }
+                | inspect::InspectError::NotJson { .. } => {
+                    anyhow::anyhow!("--channel {topic}: {}: {e}", args.file.display())
+                }
+                e => anyhow::anyhow!("{}: {e}", args.file.display()),
+            })?;
             if format == InspectFormat::Json {
                 write!(out, "{}", series.to_json())?;
             } else {

@@ -137,15 +137,28 @@ fn finish(report: &Report, dir: &std::path::Path, out: &mut dyn Write) -> anyhow
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if let Some(MergeCommand::Merge(m)) = args.merge {
+        if let Some(b) = &m.baseline {
+            Report::read(b).map_err(|e| anyhow::anyhow!("--baseline: {e}"))?;
+        }
         let report = merge_dirs(&m.dirs, &m.report, m.baseline.as_deref())?;
         return finish(&report, &m.report, out);
     }
     let Some(suite) = args.suite else {
         bail!("--suite FILE is required (or `rsts validate merge DIR... --report DIR`)");
     };
-    let shard: Option<Shard> = args.shard.as_deref().map(str::parse).transpose()?;
+    let shard: Option<Shard> = args
+        .shard
+        .as_deref()
+        .map(str::parse)
+        .transpose()
+        .map_err(|e| anyhow::anyhow!("--shard: {e}"))?;
+    // Inputs named by their options before anything runs (the library reads them again).
+    let loaded = Suite::load(&suite).map_err(|e| anyhow::anyhow!("--suite: {e}"))?;
+    if let Some(b) = &args.baseline {
+        Report::read(b).map_err(|e| anyhow::anyhow!("--baseline: {e}"))?;
+    }
     if args.list {
-        let s = Suite::load(&suite)?;
+        let s = loaded;
         let runs = match shard {
             Some(sh) => sh.select(&s.runs),
             None => s.runs,

@@ -1,0 +1,479 @@
+//! Property: for every subcommand, any bad value of any option — drawn from the option's known
+//! bad values (out of range, non-finite, malformed, unwritable places) or generated at random
+//! (garbage where a number is expected) — ends with exit code 2, a one-line `error:` that names
+//! the option, nothing on stdout, no panic, and no file left behind.
+//!
+//! Each subcommand is a proptest with a modest number of cases (the whole file runs in well under
+//! a minute); a failure prints the minimal (option, value) that broke the property.
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use proptest::prelude::*;
+use proptest::test_runner::Config;
+
+mod common;
+use common::{rsts, stderr, stdout, tmp};
+
+/// Cases per subcommand.
+const CASES: u32 = 40;
+
+/// An option, the names a message about it may use, and its known bad values.
+struct Opt {
+    name: &'static str,
+    /// Accepted spellings in the message (e.g. `--rtol/--atol` names both).
+    named_as: &'static [&'static str],
+    bad: &'static [&'static str],
+    /// Random garbage is also bad (the option takes a number or a list of numbers).
+    numeric: bool,
+}
+
+const fn num(name: &'static str, bad: &'static [&'static str]) -> Opt {
+    Opt {
+        name,
+        named_as: &[],
+        bad,
+        numeric: true,
+    }
+}
+
+const fn word(name: &'static str, bad: &'static [&'static str]) -> Opt {
+    Opt {
+        name,
+        named_as: &[],
+        bad,
+        numeric: false,
+    }
+}
+
+const NUMBER: &[&str] = &[
+    "nan", "NaN", "inf", "-inf", "1e999", "x", "", "1,2", "0x10", "--",
+];
+const COUNT: &[&str] = &["-1", "1.5", "x", "", "99999999999999999999999"];
+
+const A: Opt = num(
+    "--a",
+    &[
+        "0", "-1", "nan", "inf", "1e300", "1e-300", "0.1", "0.5", "x",
+    ],
+);
+const B: Opt = num("--b", &["0", "-0.5", "2", "1", "1e-300", "nan", "x"]);
+const M: Opt = num("--m", &["1e300", "-1e300", "5", "1e7", "nan", "x"]);
+const H: Opt = num("--h", &["1e300", "-100", "-1e300", "2.225", "nan", "x"]);
+const TORUS: Opt = word("--torus", &["99", "-1", "x", "1.5"]);
+const PHASE1: Opt = num("--phase1", &["nan", "inf", "x"]);
+const PHASE2: Opt = num("--phase2", &["-inf", "1e999", "x"]);
+const T_END: Opt = num("--t-end", &["-1", "nan", "inf", "1e12", "x"]);
+const SAMPLES: Opt = num("--samples", &["0", "-1", "1.5", "x", "100000000"]);
+const METHOD: Opt = word("--method", &["euler", "", "rk5", "dop"]);
+const RTOL: Opt = num("--rtol", &["0", "-1e-12", "2", "1e-30", "nan", "1e300"]);
+const ATOL: Opt = num("--atol", &["0", "-1", "2", "nan", "1e300"]);
+const STEP: Opt = num("--step", &["0", "-1", "nan", "x"]);
+const FORMAT: Opt = word("--format", &["xml", "", "yaml", "CSV2"]);
+
+fn compare_opts() -> Vec<Opt> {
+    vec![
+        A,
+        B,
+        M,
+        H,
+        TORUS,
+        PHASE1,
+        PHASE2,
+        T_END,
+        SAMPLES,
+        METHOD,
+        RTOL,
+        ATOL,
+        STEP,
+        num("--digits", &["5", "10001", "-1", "x"]),
+        word(
+            "--mcap",
+            &["/proc/rsts/c.mcap", "/dev/null/c.mcap", "/proc"],
+        ),
+        FORMAT,
+    ]
+}
+
+/// A place for files of this test process.
+fn scratch() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = tmp("scratch");
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    })
+}
+
+/// A complete MCAP log and a tiny valid suite, made once.
+fn fixtures() -> &'static (String, String, String) {
+    static F: OnceLock<(String, String, String)> = OnceLock::new();
+    F.get_or_init(|| {
+        let d = tmp("fixtures");
+        std::fs::create_dir_all(&d).unwrap();
+        let mcap = d.join("ok.mcap");
+        let out = rsts(&[
+            "compare",
+            "--t-end",
+            "1",
+            "--samples",
+            "3",
+            "--mcap",
+            mcap.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let suite = d.join("tiny.toml");
+        std::fs::write(
+            &suite,
+            "name = \"tiny\"\n[defaults]\nt_end = 1\nsamples = 3\n[[case]]\nname = \"c\"\nm = 0.3\nh = -0.375\n",
+        )
+        .unwrap();
+        let text = d.join("not-mcap.txt");
+        std::fs::write(&text, "hello").unwrap();
+        (
+            mcap.to_str().unwrap().to_string(),
+            suite.to_str().unwrap().to_string(),
+            text.to_str().unwrap().to_string(),
+        )
+    })
+}
+
+fn garbage() -> impl Strategy<Value = String> {
+    "[a-zA-Z_%#]{1,6}|[0-9]{1,3}[a-z]{1,3}|[.,+-]{1,3}"
+}
+
+/// (option index, bad value) for `opts`.
+fn bad_choice(opts: &'static [Opt]) -> impl Strategy<Value = (usize, String)> {
+    (0..opts.len()).prop_flat_map(move |i| {
+        let listed = proptest::sample::select(opts[i].bad).prop_map(String::from);
+        let value = if opts[i].numeric {
+            prop_oneof![3 => listed, 1 => garbage()].boxed()
+        } else {
+            listed.boxed()
+        };
+        (Just(i), value)
+    })
+}
+
+/// Run `base` with `opt value` (replacing the option if `base` has it) and check the property.
+fn check(base: &[&str], opt: &Opt, value: &str) -> Result<(), TestCaseError> {
+    let mut args: Vec<String> = base.iter().map(|s| s.to_string()).collect();
+    if let Some(k) = args.iter().position(|a| a == opt.name) {
+        args.remove(k);
+        args.remove(k);
+    }
+    args.push(format!("{}={value}", opt.name));
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = rsts(&argv);
+    let err = stderr(&out);
+    prop_assert!(!err.contains("panicked"), "{argv:?} panicked: {err}");
+    prop_assert_eq!(out.status.code(), Some(2), "{:?}: {}", argv, err);
+    prop_assert!(
+        stdout(&out).is_empty(),
+        "{argv:?} printed a document: {}",
+        stdout(&out)
+    );
+    let names: Vec<&str> = std::iter::once(opt.name)
+        .chain(opt.named_as.iter().copied())
+        .collect();
+    prop_assert!(
+        names.iter().any(|n| err.contains(n)),
+        "{argv:?}: the message does not name {}: {err}",
+        opt.name
+    );
+    // Nothing written: no temporaries, no partial files.
+    for e in std::fs::read_dir(scratch()).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().into_owned();
+        prop_assert!(false, "{argv:?} left {name} behind");
+    }
+    Ok(())
+}
+
+macro_rules! bad_input_property {
+    ($test:ident, $opts:expr, $base:expr) => {
+        proptest! {
+            #![proptest_config(Config { cases: CASES, failure_persistence: None, ..Config::default() })]
+            #[test]
+            fn $test((i, value) in bad_choice({
+                static OPTS: OnceLock<Vec<Opt>> = OnceLock::new();
+                OPTS.get_or_init(|| $opts).as_slice()
+            })) {
+                static OPTS: OnceLock<Vec<Opt>> = OnceLock::new();
+                let opts = OPTS.get_or_init(|| $opts);
+                let base: Vec<String> = $base;
+                let base: Vec<&str> = base.iter().map(String::as_str).collect();
+                check(&base, &opts[i], &value)?;
+            }
+        }
+    };
+}
+
+fn strings(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect()
+}
+
+bad_input_property!(
+    integrate_rejects_bad_input,
+    vec![
+        num("--a", &["0", "-1", "nan", "inf", "0.1", "x", "1e999"]),
+        num("--b", &["-0.5", "2", "nan", "x"]),
+        num(
+            "--omega",
+            &["1,2", "1,2,3,4", "nan,0,0", "x,y,z", "", "1,,3"]
+        ),
+        num("--alpha", &["2,0,0", "0,0,0", "1,0", "nan,0,0"]),
+        num("--beta", &["1,0,0", "0,2,0", "0,1"]),
+        T_END,
+        SAMPLES,
+        METHOD,
+        RTOL,
+        ATOL,
+        STEP,
+        FORMAT,
+    ],
+    strings(&["integrate", "--t-end", "1", "--samples", "3"])
+);
+
+bad_input_property!(
+    explicit_rejects_bad_input,
+    vec![
+        A,
+        B,
+        M,
+        H,
+        TORUS,
+        PHASE1,
+        PHASE2,
+        num("--t-end", &["-1", "nan", "x", "1e400"]),
+        SAMPLES,
+        num("--digits", &["5", "100001", "-1", "x"]),
+        FORMAT,
+    ],
+    strings(&["explicit", "--samples", "3", "--t-end", "1"])
+);
+
+bad_input_property!(
+    diagram_point_rejects_bad_input,
+    vec![A, B, M, H, FORMAT],
+    strings(&["diagram", "--m", "0.3", "--h", "-0.375"])
+);
+
+bad_input_property!(
+    diagram_picture_rejects_bad_input,
+    vec![
+        A,
+        B,
+        word("--svg", &["/proc/rsts/d.svg", "/dev/null/d.svg", "/proc"]),
+        num("--m-range", &["2,1", "1", "nan,1", "1,1"]),
+        num("--h-range", &["0,0", "x,1", "1,2,3"]),
+        word("--format", &["json", "csv"]),
+    ],
+    {
+        let svg = scratch().join("d.svg");
+        vec![
+            "diagram".into(),
+            "--svg".into(),
+            svg.to_str().unwrap().into(),
+        ]
+    }
+);
+
+bad_input_property!(
+    compare_rejects_bad_input,
+    compare_opts(),
+    strings(&["compare", "--samples", "3", "--t-end", "1"])
+);
+
+bad_input_property!(
+    bench_rejects_bad_input,
+    vec![
+        A,
+        B,
+        M,
+        H,
+        TORUS,
+        num("--t-end", &["0", "-1", "nan", "1e12"]),
+        num("--samples", &["1", "0", "x", "2000000"]),
+        word("--methods", &["euler", "", "dopri5,euler"]),
+        num("--tolerances", &["0", "-1", "2", "nan", ""]),
+        num("--repeats", &["0", "1001", "x", "-3"]),
+        num("--digits", &["5", "10001"]),
+        word("--svg", &["/proc/rsts/b.svg", "/dev/null/b.svg"]),
+        word("--peer", &["/nonexistent/peer.json", "/proc/self/status"]),
+        FORMAT,
+    ],
+    strings(&[
+        "bench",
+        "--samples",
+        "3",
+        "--t-end",
+        "1",
+        "--repeats",
+        "1",
+        "--methods",
+        "dopri5",
+        "--tolerances",
+        "1e-6",
+    ])
+);
+
+bad_input_property!(
+    bench_reference_rejects_bad_input,
+    vec![
+        word(
+            "--write-reference",
+            &["/proc/rsts/r.json", "/dev/null/r.json"]
+        ),
+        num("--reference-digits", &["5", "20000", "x"]),
+        M,
+        H,
+    ],
+    {
+        let r = scratch().join("r.json");
+        vec![
+            "bench".into(),
+            "--samples".into(),
+            "3".into(),
+            "--t-end".into(),
+            "1".into(),
+            "--reference-digits".into(),
+            "30".into(),
+            "--write-reference".into(),
+            r.to_str().unwrap().into(),
+        ]
+    }
+);
+
+bad_input_property!(
+    inspect_rejects_bad_input,
+    {
+        // The FILE argument is positional: its bad values are given as `--channel`-less runs
+        // below; here the options.
+        vec![
+            Opt {
+                name: "--channel",
+                named_as: &[],
+                bad: &["/nope", "", "errors"],
+                numeric: false,
+            },
+            word("--format", &["xml", "table", "yaml"]),
+        ]
+    },
+    {
+        let (mcap, _, _) = fixtures();
+        vec![
+            "inspect".into(),
+            mcap.clone(),
+            "--channel".into(),
+            "/errors".into(),
+        ]
+    }
+);
+
+bad_input_property!(
+    validate_rejects_bad_input,
+    vec![
+        word(
+            "--suite",
+            &["/nonexistent/s.toml", "/proc/self/status", "/proc"]
+        ),
+        word("--report", &["/proc/rsts/r", "/dev/null/r"]),
+        word(
+            "--baseline",
+            &["/nonexistent/report.json", "/proc/self/status"]
+        ),
+        word("--shard", &["0/3", "4/3", "x", "1/0", "1-3"]),
+        num("--jobs", &["0", "100000", "x", "-1"]),
+    ],
+    {
+        let (_, suite, _) = fixtures();
+        let r = scratch().join("report");
+        vec![
+            "validate".into(),
+            "--suite".into(),
+            suite.clone(),
+            "--report".into(),
+            r.to_str().unwrap().into(),
+        ]
+    }
+);
+
+bad_input_property!(
+    surfaces_rejects_bad_input,
+    vec![
+        A,
+        B,
+        M,
+        H,
+        num("--torus", &["5", "-1", "x"]),
+        num("--grid", &["3", "513", "x", "0"]),
+        num("--scene-grid", &["3", "257", "x"]),
+        num("--size", &["10", "2000", "x", "-5"]),
+        num("--periods", &["0", "-1", "1e9", "nan"]),
+        num("--samples", &["1", "2000000", "x"]),
+        num("--phases", &["1", "x,y", "nan,0", "1,2,3"]),
+        num("--azimuth", &["nan", "inf", "x"]),
+        num("--elevation", &["-inf", "x"]),
+        word("--out", &["/proc/rsts/s", "/dev/null/s"]),
+    ],
+    {
+        let out = scratch().join("surfaces");
+        strings(&[
+            "surfaces",
+            "--m",
+            "0.3",
+            "--h",
+            "-0.375",
+            "--grid",
+            "8",
+            "--scene-grid",
+            "8",
+            "--samples",
+            "10",
+            "--size",
+            "64",
+            "--no-mcap",
+            "--no-ply",
+            "--out",
+        ])
+        .into_iter()
+        .chain([out.to_str().unwrap().to_string()])
+        .collect()
+    }
+);
+
+bad_input_property!(
+    table1_rejects_bad_input,
+    vec![A, B, FORMAT],
+    strings(&["table1"])
+);
+
+bad_input_property!(
+    table2_rejects_bad_input,
+    vec![A, B, FORMAT],
+    strings(&["table2"])
+);
+
+/// The positional FILE of `inspect`: missing, a directory, not MCAP, empty — each named.
+#[test]
+fn inspect_names_a_bad_file() {
+    let (_, _, text) = fixtures();
+    let empty = scratch().join("../empty.mcap");
+    std::fs::write(&empty, b"").unwrap();
+    for file in [
+        "/nonexistent/x.mcap",
+        "/proc",
+        text.as_str(),
+        empty.to_str().unwrap(),
+    ] {
+        for extra in [vec![], vec!["--channel", "/errors"]] {
+            let mut args = vec!["inspect", file];
+            args.extend(extra);
+            let out = rsts(&args);
+            assert_eq!(out.status.code(), Some(2), "{args:?}");
+            let err = stderr(&out);
+            assert!(err.contains(file) && !err.contains("panicked"), "{err}");
+            assert!(stdout(&out).is_empty());
+        }
+    }
+}
