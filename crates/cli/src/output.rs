@@ -112,20 +112,18 @@ pub fn check_output_bytes(option: &str, what: &str, bytes: f64) -> anyhow::Resul
 }
 
 /// A non-finite number never reaches the output: it is an error naming the column and row.
-fn check_finite(table: &Tabular) -> io::Result<()> {
-    for (r, row) in table.rows.iter().enumerate() {
-        for (c, cell) in row.iter().enumerate() {
-            if let Cell::Num(x) = cell {
-                if !x.is_finite() {
-                    return Err(io::Error::new(
-                        io::ErrorKind::InvalidData,
-                        format!(
-                            "the result is not finite: {} = {x} in row {}",
-                            table.header.get(c).map_or("?", String::as_str),
-                            r + 1
-                        ),
-                    ));
-                }
+fn check_row(header: &[String], r: usize, row: &[Cell]) -> io::Result<()> {
+    for (c, cell) in row.iter().enumerate() {
+        if let Cell::Num(x) = cell {
+            if !x.is_finite() {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidData,
+                    format!(
+                        "the result is not finite: {} = {x} in row {}",
+                        header.get(c).map_or("?", String::as_str),
+                        r + 1
+                    ),
+                ));
             }
         }
     }
@@ -134,10 +132,19 @@ fn check_finite(table: &Tabular) -> io::Result<()> {
 
 /// CSV: one header line, then one line per row; numbers at full precision.
 pub fn write_csv(out: &mut dyn Write, table: &Tabular) -> io::Result<()> {
-    check_finite(table)?;
-    let header: Vec<String> = table.header.iter().map(|h| csv_field(h)).collect();
-    writeln!(out, "{}", header.join(","))?;
-    for row in &table.rows {
+    write_csv_rows(out, &table.header, table.rows.iter().cloned())
+}
+
+/// [`write_csv`] of rows made on demand (nothing but the current row is kept).
+pub fn write_csv_rows(
+    out: &mut dyn Write,
+    header: &[String],
+    rows: impl Iterator<Item = Vec<Cell>>,
+) -> io::Result<()> {
+    let names: Vec<String> = header.iter().map(|h| csv_field(h)).collect();
+    writeln!(out, "{}", names.join(","))?;
+    for (r, row) in rows.enumerate() {
+        check_row(header, r, &row)?;
         let fields: Vec<String> = row.iter().map(|c| csv_field(&c.exact())).collect();
         writeln!(out, "{}", fields.join(","))?;
     }
@@ -146,31 +153,35 @@ pub fn write_csv(out: &mut dyn Write, table: &Tabular) -> io::Result<()> {
 
 /// Right-aligned columns separated by two spaces, a header and a rule.
 pub fn write_table(out: &mut dyn Write, table: &Tabular) -> io::Result<()> {
-    check_finite(table)?;
-    let cells: Vec<Vec<String>> = table
-        .rows
-        .iter()
-        .map(|row| row.iter().map(Cell::readable).collect())
-        .collect();
-    let mut widths: Vec<usize> = table.header.iter().map(|h| h.chars().count()).collect();
-    for row in &cells {
-        for (w, c) in widths.iter_mut().zip(row) {
-            *w = (*w).max(c.chars().count());
+    write_table_rows(out, &table.header, || table.rows.iter().cloned())
+}
+
+/// [`write_table`] of rows made on demand, twice: once for the column widths, once to print
+/// (nothing but the current row is kept).
+pub fn write_table_rows<I: Iterator<Item = Vec<Cell>>>(
+    out: &mut dyn Write,
+    header: &[String],
+    rows: impl Fn() -> I,
+) -> io::Result<()> {
+    let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+    for (r, row) in rows().enumerate() {
+        check_row(header, r, &row)?;
+        for (w, c) in widths.iter_mut().zip(&row) {
+            *w = (*w).max(c.readable().chars().count());
         }
     }
-    let line = |items: &[String]| -> String {
+    let line = |items: &mut dyn Iterator<Item = String>| -> String {
         let padded: Vec<String> = items
-            .iter()
             .zip(&widths)
             .map(|(s, &w)| format!("{s:>w$}"))
             .collect();
         padded.join("  ")
     };
-    writeln!(out, "{}", line(&table.header))?;
+    writeln!(out, "{}", line(&mut header.iter().cloned()))?;
     let total = widths.iter().sum::<usize>() + 2 * widths.len().saturating_sub(1);
     writeln!(out, "{}", "-".repeat(total))?;
-    for row in &cells {
-        writeln!(out, "{}", line(row))?;
+    for row in rows() {
+        writeln!(out, "{}", line(&mut row.iter().map(Cell::readable)))?;
     }
     Ok(())
 }

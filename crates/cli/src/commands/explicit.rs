@@ -11,11 +11,10 @@ use serde::Serialize;
 use rsts_closed_form::scalar::Scalar;
 use rsts_closed_form::{ExplicitMotion, TorusChoice};
 use rsts_dynamics::scalar::{bits_for_digits, F64_BITS};
-use rsts_dynamics::vec3::Vec3;
 use rsts_dynamics::Real;
 
 use crate::args::{count, finite_f64, MAX_SAMPLES};
-use crate::output::{self, Cell, Format, Tabular};
+use crate::output::{self, Cell, Format};
 
 /// Shown at the end of `rsts explicit --help`.
 pub const EXAMPLES: &str = "\
@@ -33,6 +32,8 @@ Tori are numbered from 0; the phases are the angles (psi1, psi2) on the torus at
 
 /// Largest number of digits accepted.
 pub const MAX_DIGITS: u32 = 100_000;
+/// Most memory the samples of one run may take (2 GiB).
+pub const MAX_SAMPLE_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
 
 /// Options of `rsts explicit`.
 #[derive(Debug, Clone, ClapArgs)]
@@ -127,8 +128,31 @@ struct Sample {
     omega_fixed: [Number; 3],
 }
 
-#[derive(Debug, Serialize)]
-struct Document {
+/// The samples, kept as 16 numbers each (t, ω, α, β, γ, Ω) and turned into [`Sample`]s one at a
+/// time while the JSON is written.
+struct Samples<'a, T> {
+    rows: &'a [[T; 16]],
+    num: &'a dyn Fn(&T) -> Number,
+}
+
+impl<T> Serialize for Samples<'_, T> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let f = self.num;
+        let v3 = |r: &[T; 16], k: usize| [f(&r[k]), f(&r[k + 1]), f(&r[k + 2])];
+        serializer.collect_seq(self.rows.iter().map(|r| Sample {
+            t: f(&r[0]),
+            omega: v3(r, 1),
+            alpha: v3(r, 4),
+            beta: v3(r, 7),
+            gamma: v3(r, 10),
+            omega_fixed: v3(r, 13),
+        }))
+    }
+}
+
+#[derive(Serialize)]
+#[serde(bound = "")]
+struct Document<'a, T> {
     a: Number,
     b: Number,
     m: Number,
@@ -139,7 +163,7 @@ struct Document {
     phase1: f64,
     phase2: f64,
     digits: u32,
-    samples: Vec<Sample>,
+    samples: Samples<'a, T>,
 }
 
 /// A decimal string shortened for the table header (`1e0` → `1`).
@@ -212,19 +236,26 @@ fn run_in<T: Scalar>(
     let motion = ExplicitMotion::new_until(a?, b?, m?, h?, choice, t_max)
         .map_err(crate::args::case_error)?;
     let n = args.samples;
-    let mp = digits > 17 || bits > F64_BITS;
-    let num = |x: &T| {
-        if mp {
-            Number::Decimal(x.to_decimal(digits))
-        } else {
-            Number::F64(x.to_f64())
-        }
+    // Memory: the 16 numbers of every sample are kept (f64: 8 bytes each; MPFR: its limbs and
+    // ~48 bytes of bookkeeping); the output is made from them row by row.
+    let per_number = if bits > F64_BITS {
+        48.0 + 8.0 * f64::from(bits.div_ceil(64))
+    } else {
+        8.0
     };
-    let v3 = |v: &Vec3<T>| [num(&v[0]), num(&v[1]), num(&v[2])];
+    let bytes = n as f64 * 16.0 * per_number;
+    if bytes > MAX_SAMPLE_BYTES {
+        bail!(
+            "--samples/--digits: {n} samples at {digits} digits need about {} bytes of memory, more than {}; ask for fewer samples or digits",
+            rsts_dynamics::short(bytes),
+            rsts_dynamics::short(MAX_SAMPLE_BYTES)
+        );
+    }
+    let mp = digits > 17 || bits > F64_BITS;
     // t_k = T·k/(N−1), computed with guard bits and rounded once (T·k may overflow f64).
     let wide = bits.max(F64_BITS) + 64;
     let t_big = t_end.to_mpfr(wide);
-    let mut samples = Vec::with_capacity(n);
+    let mut rows: Vec<[T; 16]> = Vec::with_capacity(n);
     for k in 0..n {
         let t: T = if n == 1 {
             t_end.zero_like()
@@ -237,22 +268,28 @@ fn run_in<T: Scalar>(
             )
         };
         let s = motion.at(&t);
-        let all = [&s.omega, &s.alpha, &s.beta, &s.gamma, &s.omega_fixed];
-        if all.iter().any(|v| (0..3).any(|i| !v[i].is_finite())) {
+        let vs = [&s.omega, &s.alpha, &s.beta, &s.gamma, &s.omega_fixed];
+        if vs.iter().any(|v| (0..3).any(|i| !v[i].is_finite())) {
             bail!(
                 "the closed form is not finite at t = {} (sample {k} of {n})",
                 rsts_dynamics::short(t.to_f64())
             );
         }
-        samples.push(Sample {
-            t: num(&t),
-            omega: v3(&s.omega),
-            alpha: v3(&s.alpha),
-            beta: v3(&s.beta),
-            gamma: v3(&s.gamma),
-            omega_fixed: v3(&s.omega_fixed),
-        });
+        rows.push(std::array::from_fn(|j| {
+            if j == 0 {
+                t.clone()
+            } else {
+                vs[(j - 1) / 3][(j - 1) % 3].clone()
+            }
+        }));
     }
+    let num = |x: &T| {
+        if mp {
+            Number::Decimal(x.to_decimal(digits))
+        } else {
+            Number::F64(x.to_f64())
+        }
+    };
     let c = &motion.constants;
     let doc = Document {
         a: num(&c.a),
@@ -265,33 +302,26 @@ fn run_in<T: Scalar>(
         phase1: args.phase1,
         phase2: args.phase2,
         digits,
-        samples,
+        samples: Samples {
+            rows: &rows,
+            num: &num,
+        },
     };
     let text = |x: &T| x.to_decimal(digits);
     match args.format {
         Format::Json => output::write_json(out, &doc)?,
         Format::Csv | Format::Table => {
             let mut header = vec!["t".to_string()];
-            for (name, n) in [
-                ("omega", 3),
-                ("alpha", 3),
-                ("beta", 3),
-                ("gamma", 3),
-                ("Omega", 3),
-            ] {
-                header.extend((1..=n).map(|i| format!("{name}{i}")));
+            for name in ["omega", "alpha", "beta", "gamma", "Omega"] {
+                header.extend((1..=3).map(|i| format!("{name}{i}")));
             }
-            let mut table = Tabular::new(header);
             let as_table = args.format == Format::Table && digits <= 17;
-            for s in &doc.samples {
-                let mut row = vec![s.t.cell(as_table)];
-                for v in [&s.omega, &s.alpha, &s.beta, &s.gamma, &s.omega_fixed] {
-                    row.extend(v.iter().map(|x| x.cell(as_table)));
-                }
-                table.push(row);
-            }
+            let cells = || {
+                rows.iter()
+                    .map(|r| r.iter().map(|x| num(x).cell(as_table)).collect::<Vec<_>>())
+            };
             if args.format == Format::Csv {
-                output::write_csv(out, &table)?;
+                output::write_csv_rows(out, &header, cells())?;
             } else {
                 let [p1, p2] = motion.periods().map(|p| p.to_f64());
                 output::write_key_values(
@@ -316,7 +346,7 @@ fn run_in<T: Scalar>(
                     ],
                 )?;
                 writeln!(out)?;
-                output::write_table(out, &table)?;
+                output::write_table_rows(out, &header, cells)?;
             }
         }
     }
