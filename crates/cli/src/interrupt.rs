@@ -2,24 +2,27 @@
 //!
 //! A command that can stop early and still finish its outputs (`compare`: it stops after the
 //! current piece and writes a complete file of what it did) calls [`stop_gracefully`]; its first
-//! Ctrl-C only sets the flag that [`requested`] reads. Any other Ctrl-C — the first one for every
+//! Ctrl-C only sets the flag it returns. Any other Ctrl-C — the first one for every
 //! other command, the second one for those — removes the temporaries of the output files still
 //! being written ([`rsts_io::remove_temporaries`]: the targets keep what they had) and exits
 //! with code 130 at once.
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, LazyLock};
 
 /// Exit code of a run stopped by Ctrl-C (128 + SIGINT).
 pub const EXIT_INTERRUPTED: u8 = 130;
 
 static GRACEFUL: AtomicBool = AtomicBool::new(false);
-static REQUESTED: AtomicBool = AtomicBool::new(false);
+static REQUESTED: LazyLock<Arc<AtomicBool>> = LazyLock::new(|| Arc::new(AtomicBool::new(false)));
 
 /// Install the handler (once, first thing in `main`).
 pub fn install() {
     // If the handler cannot be installed, Ctrl-C keeps its default action (the process dies and
     // leaves hidden temporaries at worst, never a damaged target).
     let _ = ctrlc::set_handler(|| {
+        // An external integrator's process (group) is killed at once either way.
+        rsts_external::kill_running();
         if GRACEFUL.load(Ordering::SeqCst) && !REQUESTED.swap(true, Ordering::SeqCst) {
             return;
         }
@@ -28,12 +31,8 @@ pub fn install() {
     });
 }
 
-/// From now on the first Ctrl-C only asks the command to stop ([`requested`]).
-pub fn stop_gracefully() {
+/// From now on the first Ctrl-C only asks the command to stop: the flag returned is set then.
+pub fn stop_gracefully() -> Arc<AtomicBool> {
     GRACEFUL.store(true, Ordering::SeqCst);
-}
-
-/// Whether Ctrl-C asked the command to stop.
-pub fn requested() -> bool {
-    REQUESTED.load(Ordering::SeqCst)
+    REQUESTED.clone()
 }

@@ -11,7 +11,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use anyhow::bail;
 use clap::{Args as ClapArgs, Subcommand};
 
+use rsts_validate::suite::AdapterSpec;
 use rsts_validate::{merge_dirs, validate, Options, Report, RunResult, Shard, Status, Suite};
+
+use crate::external::TimeoutArgs;
 
 /// Shown at the end of `rsts validate --help`.
 pub const EXAMPLES: &str = "\
@@ -25,6 +28,10 @@ Examples:
   # shard 2 of 8 of the sweep (one machine of a job array), then the merge
   rsts validate --suite validation/nightly.toml --report out/shard-2 --shard 2/8 --jobs 2
   rsts validate merge out/shard-1 out/shard-2 out/shard-3 out/shard-4 out/shard-5 out/shard-6 out/shard-7 out/shard-8 --report out/nightly
+
+  # your own integrator through the CI suite (docs/own-integrator.md)
+  cargo build --release -p example-adapter-rk4
+  rsts validate --suite validation/quick.toml --report out/mine --exec target/release/example-adapter-rk4 --exec-name my-rk4
 
 Exit code 1 names every run that missed a threshold or regressed (error grown 10x, time grown 2x);
 exit code 2 is bad input (suite, shard, missing baseline). See docs/validation.md.";
@@ -57,6 +64,14 @@ pub struct Args {
     /// Only list the run ids (of the shard, if given) and exit
     #[arg(long)]
     pub list: bool,
+    /// Run this external integrator (rsts-integrator/1) instead of every case's methods
+    #[arg(long, value_name = "COMMAND")]
+    pub exec: Option<String>,
+    /// Name of the --exec integrator in run ids and reports
+    #[arg(long, value_name = "NAME", default_value = "exec", requires = "exec")]
+    pub exec_name: String,
+    #[command(flatten)]
+    pub timeout: TimeoutArgs,
 }
 
 #[derive(Debug, Clone, Subcommand)]
@@ -152,8 +167,26 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         .map(str::parse)
         .transpose()
         .map_err(|e| anyhow::anyhow!("--shard: {e}"))?;
+    let exec = match &args.exec {
+        None => None,
+        Some(command) => {
+            let argv = rsts_external::split_command(command)
+                .map_err(|e| anyhow::anyhow!("--exec: {e}"))?;
+            if !(args.timeout.exec_timeout.is_finite() && args.timeout.exec_timeout > 0.0) {
+                bail!("--exec-timeout: must be a positive number of seconds");
+            }
+            Some((
+                args.exec_name.clone(),
+                AdapterSpec {
+                    command: argv,
+                    timeout: Some(args.timeout.exec_timeout),
+                },
+            ))
+        }
+    };
     // Inputs named by their options before anything runs (the library reads them again).
-    let loaded = Suite::load(&suite).map_err(|e| anyhow::anyhow!("--suite: {e}"))?;
+    let loaded = Suite::load_with(&suite, exec.as_ref().map(|(n, a)| (n.as_str(), a)))
+        .map_err(|e| anyhow::anyhow!("--suite: {e}"))?;
     if let Some(b) = &args.baseline {
         Report::read(b).map_err(|e| anyhow::anyhow!("--baseline: {e}"))?;
     }
@@ -186,6 +219,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         baseline: args.baseline,
         shard,
         jobs: args.jobs.unwrap_or(0),
+        exec,
     };
     let done = AtomicUsize::new(0);
     let tty = std::io::stderr().is_terminal();

@@ -121,3 +121,36 @@ impl Propagator<f64> for Rk4 {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fields::Fields;
+    use crate::state::State;
+
+    /// Every grid interval takes exactly the steps it needs: with step 1e-3 and spacing 0.1,
+    /// 0.1/1e-3 rounds to 100.00000000000001 and a rounded-down step used to add a 101st step
+    /// (ending 1e-3 past the sample: an error of 1e-3 instead of 1e-13).
+    #[test]
+    fn each_interval_ends_on_its_grid_time() {
+        let problem = Problem {
+            fields: Fields::new(1.0, 0.5).unwrap(),
+            initial: State {
+                omega: [0.3, -0.2, 0.5],
+                alpha: [1.0, 0.0, 0.0],
+                beta: [0.0, 1.0, 0.0],
+            },
+        };
+        let grid = OutputGrid::new(2.0, 21).unwrap();
+        let sol = Rk4::new(1e-3).propagate_grid(&problem, &grid).unwrap();
+        assert!((2000..=2020).contains(&sol.stats.accepted_steps));
+        let fine = Rk4::new(2.5e-4).propagate_grid(&problem, &grid).unwrap();
+        let last = |s: &Solution<f64>| s.states.last().unwrap().to_array();
+        let diff = last(&sol)
+            .iter()
+            .zip(last(&fine).iter())
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(diff < 1e-10, "rk4 at 1e-3 vs 2.5e-4 differ by {diff:e}");
+    }
+}
