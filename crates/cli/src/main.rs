@@ -7,8 +7,8 @@
 
 mod args;
 mod commands;
-mod interrupt;
 mod external;
+mod interrupt;
 mod output;
 
 use std::io::{self, Write};

@@ -81,7 +81,11 @@ pub trait Integrator {
     /// Refuse at once a run over the whole of `grid` from `problem` that cannot fit the
     /// integrator's limits (a built-in method's step budget), before the harness cuts it into
     /// pieces and starts. Default: no limit known.
-    fn check_budget(&self, problem: &Problem<Float>, grid: &OutputGrid) -> Result<(), HarnessError> {
+    fn check_budget(
+        &self,
+        problem: &Problem<Float>,
+        grid: &OutputGrid,
+    ) -> Result<(), HarnessError> {
         let _ = (problem, grid);
         Ok(())
     }
@@ -181,7 +185,11 @@ impl Integrator for MethodConfig {
         MethodConfig::working_bits(self)
     }
 
-    fn check_budget(&self, problem: &Problem<Float>, grid: &OutputGrid) -> Result<(), HarnessError> {
+    fn check_budget(
+        &self,
+        problem: &Problem<Float>,
+        grid: &OutputGrid,
+    ) -> Result<(), HarnessError> {
         Ok(MethodConfig::check_budget(
             self,
             &map_problem(problem, Float::to_f64),

@@ -13,8 +13,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
 use rsts_harness::{
-    compare_integrator, preflight, Case, CompareOptions, Integrator, Observer, Report,
-    SampleRecord,
+    compare_integrator, preflight, Case, CompareOptions, Integrator, Observer, Report, SampleRecord,
 };
 use rsts_mcap::{BodyState, ErrorSample, Metadata, Sample, TrajectoryLog};
 
