@@ -95,14 +95,18 @@ fn compare_opts() -> Vec<Opt> {
     ]
 }
 
-/// A place for files of this test process.
-fn scratch() -> &'static Path {
-    static DIR: OnceLock<PathBuf> = OnceLock::new();
-    DIR.get_or_init(|| {
-        let d = tmp("scratch");
-        std::fs::create_dir_all(&d).unwrap();
-        d
-    })
+/// A place for the files of this test (each test runs on its own thread and has its own
+/// directory, so one test's temporaries are never taken for another's leftovers).
+fn scratch() -> PathBuf {
+    thread_local! {
+        static DIR: PathBuf = {
+            let name = std::thread::current().name().unwrap_or("main").replace("::", "-");
+            let d = tmp(&format!("scratch-{name}"));
+            std::fs::create_dir_all(&d).unwrap();
+            d
+        };
+    }
+    DIR.with(|d| d.clone())
 }
 
 /// A complete MCAP log and a tiny valid suite, made once.
@@ -299,7 +303,20 @@ bad_input_property!(
         num("--repeats", &["0", "1001", "x", "-3"]),
         num("--digits", &["5", "10001"]),
         word("--svg", &["/proc/rsts/b.svg", "/dev/null/b.svg"]),
-        word("--peer", &["/nonexistent/peer.json", "/proc/self/status"]),
+        Opt {
+            name: "--exec",
+            named_as: &["external integrator"],
+            bad: &[
+                "/bin/false",
+                "",
+                "'x",
+                "/nonexistent/prog",
+                "cat",
+                "/proc/self/status"
+            ],
+            numeric: false,
+        },
+        num("--exec-timeout", NUMBER),
         FORMAT,
     ],
     strings(&[
@@ -315,34 +332,253 @@ bad_input_property!(
         "--tolerances",
         "1e-6",
     ])
+    .into_iter()
+    .chain(["--svg".to_string(), s(&scratch().join("b.svg"))])
+    .collect()
+);
+
+// `rsts compare --exec`: a program that cannot start, fails, answers garbage or takes a bad
+// timeout; the MCAP log it was to write is not left behind.
+bad_input_property!(
+    compare_exec_rejects_bad_input,
+    vec![
+        Opt {
+            name: "--exec",
+            named_as: &["external integrator"],
+            bad: &[
+                "/bin/false",
+                "",
+                "'x",
+                "/nonexistent/prog",
+                "cat",
+                "no-such-program-rsts"
+            ],
+            numeric: false,
+        },
+        num("--exec-timeout", &["0", "-1", "nan", "inf", "1e300", "x"]),
+        num("--digits", &["5", "10001", "x"]),
+    ],
+    strings(&[
+        "compare",
+        "--samples",
+        "3",
+        "--t-end",
+        "1",
+        "--exec",
+        "cat",
+        "--mcap"
+    ])
+    .into_iter()
+    .chain([s(&scratch().join("e.mcap"))])
+    .collect()
+);
+
+const REFERENCE_TIMES: Opt = num(
+    "--times",
+    &["1,0", "0,0", "nan", "x", "", "0,1e999", "0,,1"],
+);
+
+fn reference_opts() -> Vec<Opt> {
+    vec![
+        A,
+        B,
+        M,
+        H,
+        TORUS,
+        PHASE1,
+        PHASE2,
+        REFERENCE_TIMES,
+        num("--digits", &["5", "17", "10001", "x", "-1"]),
+        word("--format", &["xml", "", "table", "CSV2"]),
+        Opt {
+            name: "--output",
+            named_as: &["-o"],
+            bad: &["/proc/rsts/r.csv", "/dev/null/r.csv", "/proc"],
+            numeric: false,
+        },
+    ]
+}
+
+bad_input_property!(
+    reference_rejects_bad_input,
+    reference_opts(),
+    strings(&["reference", "--times", "0,0.5,1", "--output"])
+        .into_iter()
+        .chain([s(&scratch().join("r.csv"))])
+        .collect()
 );
 
 bad_input_property!(
-    bench_reference_rejects_bad_input,
+    reference_grid_rejects_bad_input,
     vec![
-        word(
-            "--write-reference",
-            &["/proc/rsts/r.json", "/dev/null/r.json"]
-        ),
-        num("--reference-digits", &["5", "20000", "x"]),
-        M,
-        H,
+        num("--t-end", &["-1", "nan", "inf", "x"]),
+        num("--samples", COUNT),
+        num("--samples", &["0", "100000000"]),
+        // 10 million times at 10000 digits: more than an output file may hold.
+        num("--digits", &["10000"]),
+        word("--times-file", &["/nonexistent/times.txt"]),
     ],
+    strings(&[
+        "reference",
+        "--t-end",
+        "1",
+        "--samples",
+        "10000000",
+        "--output"
+    ])
+    .into_iter()
+    .chain([s(&scratch().join("g.json"))])
+    .collect()
+);
+
+bad_input_property!(
+    reference_times_file_rejects_bad_input,
+    vec![word(
+        "--times-file",
+        &[
+            "/nonexistent/times.txt",
+            "/proc",
+            "/proc/self/status",
+            "/dev/null"
+        ]
+    )],
     {
-        let r = scratch().join("r.json");
+        let (_, times) = trajectories();
         vec![
-            "bench".into(),
-            "--samples".into(),
-            "3".into(),
-            "--t-end".into(),
-            "1".into(),
-            "--reference-digits".into(),
-            "30".into(),
-            "--write-reference".into(),
-            r.to_str().unwrap().into(),
+            "reference".into(),
+            "--times-file".into(),
+            times.clone(),
+            "--output".into(),
+            s(&scratch().join("f.csv")),
         ]
     }
 );
+
+// `rsts check FILE` with the motion given: every option, and the MCAP log it was to write.
+bad_input_property!(
+    check_rejects_bad_input,
+    vec![
+        A,
+        B,
+        M,
+        H,
+        TORUS,
+        PHASE1,
+        PHASE2,
+        num("--digits", &["0", "10001", "x", "-1"]),
+        num("--max-error", &["-1", "nan", "inf", "x"]),
+        word(
+            "--mcap",
+            &["/proc/rsts/c.mcap", "/dev/null/c.mcap", "/proc"]
+        ),
+        FORMAT,
+    ],
+    {
+        let (traj, _) = trajectories();
+        vec![
+            "check".into(),
+            traj.clone(),
+            "--m".into(),
+            "0.3".into(),
+            "--h".into(),
+            "-0.375".into(),
+            "--mcap".into(),
+            s(&scratch().join("c.mcap")),
+        ]
+    }
+);
+
+/// A path as a String.
+fn s(p: &Path) -> String {
+    p.to_str().unwrap().to_string()
+}
+
+/// A trajectory of the default motion (`rsts reference`, t in [0, 1]) as CSV, and a times file.
+fn trajectories() -> &'static (String, String) {
+    static F: OnceLock<(String, String)> = OnceLock::new();
+    F.get_or_init(|| {
+        let d = tmp("trajectories");
+        std::fs::create_dir_all(&d).unwrap();
+        let traj = d.join("traj.csv");
+        let out = rsts(&[
+            "reference",
+            "--t-end",
+            "1",
+            "--samples",
+            "3",
+            "-o",
+            traj.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let times = d.join("times.txt");
+        std::fs::write(&times, "0\n0.5 # half\n1\n").unwrap();
+        (s(&traj), s(&times))
+    })
+}
+
+/// The FILE of `rsts check`: each bad file exits 2 with a message naming it, and the row and
+/// column when the fault is in one; no MCAP log is left.
+#[test]
+fn check_names_a_bad_file_its_row_and_column() {
+    let d = tmp("check-files");
+    std::fs::create_dir_all(&d).unwrap();
+    let (traj, _) = trajectories();
+    let good = std::fs::read_to_string(traj).unwrap();
+    let mut lines: Vec<String> = good.lines().map(String::from).collect();
+    let header = lines[0].clone();
+    // Row 2 (line 3), column omega2 made NaN.
+    let mut cells: Vec<String> = lines[2].split(',').map(String::from).collect();
+    cells[2] = "NaN".into();
+    lines[2] = cells.join(",");
+    let nan_row = d.join("nan.csv");
+    std::fs::write(&nan_row, lines.join("\n")).unwrap();
+    let short = d.join("short.csv");
+    std::fs::write(&short, format!("{header}\n0,1,2\n")).unwrap();
+    let header_only = d.join("empty.csv");
+    std::fs::write(&header_only, format!("{header}\n")).unwrap();
+    let backwards = d.join("backwards.csv");
+    let rows: Vec<&str> = good.lines().collect();
+    std::fs::write(
+        &backwards,
+        format!("{}\n{}\n{}\n", rows[0], rows[2], rows[1]),
+    )
+    .unwrap();
+    let text = d.join("notes.txt");
+    std::fs::write(&text, "hello").unwrap();
+    let cases: Vec<(PathBuf, &[&str])> = vec![
+        (d.join("missing.csv"), &[]),
+        (nan_row, &["line 3", "omega2"]),
+        (short, &["line 2"]),
+        (header_only, &["no samples"]),
+        (backwards, &["increasing"]),
+        (text, &[".txt"]),
+        (PathBuf::from("/proc"), &[]),
+    ];
+    let mcap = d.join("log.mcap");
+    for (file, words) in cases {
+        let f = s(&file);
+        for extra in [vec![], vec!["--m", "0.3", "--h", "-0.375"]] {
+            let mut args = vec!["check", f.as_str(), "--mcap", mcap.to_str().unwrap()];
+            args.extend(extra);
+            let out = rsts(&args);
+            let err = stderr(&out);
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+            assert!(!err.contains("panicked"), "{err}");
+            assert!(err.contains(&f), "{args:?}: the file is not named: {err}");
+            for w in words {
+                assert!(err.contains(w), "{args:?}: no `{w}` in {err}");
+            }
+            assert!(stdout(&out).is_empty(), "{args:?}");
+            assert!(!mcap.exists(), "{args:?} left the MCAP log");
+        }
+    }
+    let left: Vec<_> = std::fs::read_dir(&d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(left.is_empty(), "temporaries left: {left:?}");
+}
 
 bad_input_property!(
     inspect_rejects_bad_input,

@@ -31,6 +31,25 @@ fn log() -> &'static PathBuf {
     })
 }
 
+/// A trajectory of the default motion for `check` (written by `rsts reference`).
+fn trajectory() -> &'static PathBuf {
+    static P: OnceLock<PathBuf> = OnceLock::new();
+    P.get_or_init(|| {
+        let p = tmp("contract-traj.csv");
+        let out = rsts(&[
+            "reference",
+            "--t-end",
+            "1",
+            "--samples",
+            "5",
+            "-o",
+            p.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        p
+    })
+}
+
 /// Cheap valid arguments of each subcommand (`None`: it has no `--format`), and the formats
 /// that are only valid in another mode of the command.
 fn base(command: &str) -> Option<Vec<Vec<String>>> {
@@ -75,6 +94,16 @@ fn base(command: &str) -> Option<Vec<Vec<String>>> {
             "1",
         ])],
         "table1" => vec![v(&["table1"])],
+        "check" => {
+            let traj = trajectory().to_str().unwrap().to_string();
+            let log = tmp("contract-check.mcap").to_str().unwrap().to_string();
+            vec![
+                vec!["check".into(), traj.clone()],
+                // A log written beside the report changes nothing on stdout.
+                vec!["check".into(), traj, "--mcap".into(), log],
+            ]
+        }
+        "reference" => vec![v(&["reference", "--times", "0,0.5,1"])],
         "table2" => vec![v(&["table2"])],
         "validate" | "surfaces" | "help" => return None,
         other => panic!(
@@ -134,7 +163,37 @@ fn listed_formats(command: &str) -> Vec<String> {
         .collect()
 }
 
+/// A `.npy` float64 array of finite values with its shape in the header.
+fn check_npy(args: &[String], bytes: &[u8]) {
+    assert!(bytes.starts_with(b"\x93NUMPY"), "{args:?}: not npy");
+    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + len]).unwrap();
+    assert!(header.contains("'descr': '<f8'"), "{header}");
+    let shape = header.split("'shape': (").nth(1).unwrap();
+    let dims: Vec<usize> = shape
+        .split(')')
+        .next()
+        .unwrap()
+        .split(',')
+        .filter(|d| !d.trim().is_empty())
+        .map(|d| d.trim().parse().unwrap())
+        .collect();
+    let data = &bytes[10 + len..];
+    assert_eq!(
+        data.len(),
+        8 * dims.iter().product::<usize>(),
+        "{args:?}: {header}"
+    );
+    for x in data.chunks(8) {
+        let x = f64::from_le_bytes(x.try_into().unwrap());
+        assert!(x.is_finite(), "{args:?}: non-finite value {x}");
+    }
+}
+
 fn check_document(args: &[String], format: &str, out: &std::process::Output) {
+    if format == "npy" {
+        return check_npy(args, &out.stdout);
+    }
     let text = stdout(out);
     assert!(!text.trim().is_empty(), "{args:?}: empty stdout");
     let lower = text.to_ascii_lowercase();
@@ -239,6 +298,31 @@ fn every_listed_format_of_every_command_works_and_others_are_rejected() {
             assert_eq!(out.status.code(), Some(2), "{args:?}");
             assert!(stderr(&out).contains("--format"), "{args:?}");
         }
+    }
+}
+
+/// `rsts reference -o FILE` writes exactly what it prints, in every format it lists.
+#[test]
+fn reference_files_hold_what_stdout_holds() {
+    let formats = listed_formats("reference");
+    assert!(formats.len() >= 3, "{formats:?}");
+    for format in formats {
+        let args = [
+            "reference",
+            "--times",
+            "0,0.25,3",
+            "--format",
+            format.as_str(),
+        ];
+        let printed = rsts(&args);
+        assert!(printed.status.success(), "{}", stderr(&printed));
+        let file = tmp(&format!("ref.{format}"));
+        let mut with_file = args.to_vec();
+        with_file.extend(["-o", file.to_str().unwrap()]);
+        let wrote = rsts(&with_file);
+        assert!(wrote.status.success(), "{}", stderr(&wrote));
+        assert!(wrote.stdout.is_empty(), "{format}: stdout with -o");
+        assert_eq!(std::fs::read(&file).unwrap(), printed.stdout, "{format}");
     }
 }
 

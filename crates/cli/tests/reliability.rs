@@ -242,6 +242,117 @@ fn d01_a_rejected_run_leaves_an_existing_file_untouched() {
     assert_eq!(entries(&d), vec!["keep.mcap"]);
 }
 
+/// A shell script standing in for an external integrator (`--exec`).
+fn script(d: &Path, name: &str, body: &str) -> String {
+    use std::os::unix::fs::PermissionsExt;
+    let path = d.join(name);
+    fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
+    fs::set_permissions(&path, fs::Permissions::from_mode(0o755)).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// An external integrator that fails, answers garbage, hangs past its timeout or writes part
+/// of an answer and dies: exit 2 naming it, and the files the run was to replace (MCAP log,
+/// work-precision SVG, check's log) keep their bytes; nothing else appears.
+#[test]
+fn d01_a_failing_or_hanging_external_integrator_leaves_existing_files_untouched() {
+    let d = dir("d01-exec");
+    let progs = dir("d01-exec-programs");
+    let keep = d.join("keep.mcap");
+    let svg = d.join("keep.svg");
+    let traj = d.join("traj.csv");
+    for args in [
+        vec![
+            "compare",
+            "--t-end",
+            "1",
+            "--samples",
+            "5",
+            "--mcap",
+            s(&keep),
+        ],
+        vec!["diagram", "--svg", s(&svg)],
+        vec![
+            "reference",
+            "--t-end",
+            "1",
+            "--samples",
+            "5",
+            "-o",
+            s(&traj),
+        ],
+    ] {
+        let out = rsts(&args);
+        assert_eq!(code(&out), Some(0), "{args:?}: {}", stderr(&out));
+    }
+    let before = |p: &Path| fs::read(p).unwrap();
+    let (mcap0, svg0, traj0) = (before(&keep), before(&svg), before(&traj));
+    let children = [
+        script(
+            &progs,
+            "fails.sh",
+            "cat > /dev/null\necho 'Traceback: boom' >&2\nexit 1",
+        ),
+        script(
+            &progs,
+            "garbage.sh",
+            "cat > /dev/null\necho '{\"samples\": [1, 2'",
+        ),
+        script(&progs, "hangs.sh", "cat > /dev/null\nsleep 30"),
+        script(
+            &progs,
+            "dies.sh",
+            "cat > /dev/null\nprintf '{\"samples\": [{\"t\": 0, \"omega\": [0'\nkill -9 $$",
+        ),
+    ];
+    for child in &children {
+        let runs: Vec<Vec<&str>> = vec![
+            vec![
+                "compare",
+                "--exec",
+                child,
+                "--t-end",
+                "1",
+                "--samples",
+                "5",
+                "--mcap",
+                s(&keep),
+            ],
+            vec![
+                "bench",
+                "--exec",
+                child,
+                "--t-end",
+                "1",
+                "--samples",
+                "5",
+                "--tolerances",
+                "1e-6",
+                "--repeats",
+                "1",
+                "--svg",
+                s(&svg),
+            ],
+        ];
+        for mut args in runs {
+            args.extend(["--exec-timeout", "2"]);
+            let out = run(&args, Limits::default());
+            let err = stderr(&out);
+            assert_eq!(code(&out), Some(2), "{args:?}: {err}");
+            assert!(
+                err.contains(&format!("`{child}`")),
+                "{args:?}: not named: {err}"
+            );
+            assert!(!err.contains("panicked"), "{err}");
+            assert!(stdout(&out).is_empty(), "{args:?}: {}", stdout(&out));
+        }
+        assert_eq!(before(&keep), mcap0, "{child}: keep.mcap changed");
+        assert_eq!(before(&svg), svg0, "{child}: keep.svg changed");
+    }
+    assert_eq!(before(&traj), traj0);
+    assert_eq!(entries(&d), vec!["keep.mcap", "keep.svg", "traj.csv"]);
+}
+
 // ---- 2. two runs writing the same file at once ----------------------------------------------
 
 #[test]
@@ -667,6 +778,50 @@ fn d07_explicit_at_a_huge_time_is_the_motion_at_that_time() {
     assert_eq!(num(&a["samples"][1]["t"]), 1e300);
 }
 
+/// `reference` and `check` at t = 1e300 follow the motion too (they used to give the state at
+/// t = 0: the phase clock lacked the bits of so large a time): reference agrees with explicit
+/// there, and check finds a reference trajectory reaching 1e300 exact.
+#[test]
+fn d07_reference_and_check_at_a_huge_time_follow_the_motion() {
+    let d = dir("d07-ref");
+    let json = |args: &[&str]| -> Value {
+        let out = rsts(args);
+        assert_eq!(code(&out), Some(0), "{args:?}: {}", stderr(&out));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let e = json(&[
+        "explicit",
+        "--t-end",
+        "1e300",
+        "--samples",
+        "2",
+        "--format",
+        "json",
+    ]);
+    let r = json(&["reference", "--times", "0,1e300", "--format", "json"]);
+    let w = |v: &Value, k: usize| v["samples"][k]["omega"][0].as_f64().unwrap();
+    assert!(
+        (w(&r, 1) - w(&e, 1)).abs() < 1e-12,
+        "{} vs {}",
+        w(&r, 1),
+        w(&e, 1)
+    );
+    assert!(
+        (w(&r, 1) - w(&r, 0)).abs() > 1e-6,
+        "the state at 1e300 is the one at 0"
+    );
+    let traj = d.join("huge.csv");
+    let out = rsts(&["reference", "--times", "0,1,1e300", "-o", s(&traj)]);
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    for motion in [vec![], vec!["--m", "0.3", "--h", "-0.375"]] {
+        let mut args = vec!["check", s(&traj), "--format", "json"];
+        args.extend(motion);
+        let c = json(&args);
+        let err = c["max_state_error"].as_f64().unwrap();
+        assert!(err < 1e-12, "{args:?}: max state error {err:e}");
+    }
+}
+
 // ---- 8. disk full, unwritable places ---------------------------------------------------------
 
 #[test]
@@ -690,11 +845,15 @@ fn d08_a_full_disk_leaves_no_partial_file_and_keeps_the_os_error() {
             s(&d.join("d.svg")).to_string(),
         ],
         vec![
-            "bench".into(),
-            "--write-reference".into(),
-            s(&ref_json).to_string(),
+            "reference".into(),
+            "--t-end".into(),
+            "20".into(),
             "--samples".into(),
             "400".into(),
+            "--format".into(),
+            "json".into(),
+            "-o".into(),
+            s(&ref_json).to_string(),
         ],
         vec![
             "surfaces".into(),
