@@ -104,7 +104,7 @@ pub(crate) fn check_ranges<T: Real>(a: &T, b: &T, m: &T, h: &T) -> Result<(), Cl
     }
     let p = (a * a + b * b).sqrt();
     let m_max = MH_SCALE_MAX / p;
-    if !(m.abs() <= m_max) {
+    if m.is_nan() || m.abs() > m_max {
         return Err(ClosedFormError::Range(
             "m",
             format!(
@@ -117,7 +117,7 @@ pub(crate) fn check_ranges<T: Real>(a: &T, b: &T, m: &T, h: &T) -> Result<(), Cl
         ));
     }
     let h_max = MH_SCALE_MAX * p;
-    if !(h.abs() <= h_max) {
+    if h.is_nan() || h.abs() > h_max {
         return Err(ClosedFormError::Range(
             "h",
             format!(

@@ -108,7 +108,7 @@ impl<T: Scalar> ExplicitMotion<T> {
             .fold(0.0, f64::max);
         let reach = (u_dot * t_max.abs()).max(1.0).log2().ceil();
         let spare = f64::from(GUARD_BITS - 8);
-        if !(reach > spare) {
+        if reach.is_nan() || reach <= spare {
             return Ok(motion);
         }
         let extra = (reach - spare) as u32 + 8;

@@ -129,14 +129,12 @@ pub(crate) fn walk(
     if summary_start - data_end_pos >= RECORD_HEADER + 4 {
         let stored = u32_at(buf, data_end_pos + RECORD_HEADER);
         let computed = crc32fast::hash(&buf[..data_end_pos]);
-        if stored != 0 && stored != computed {
-            if !damaged_before() {
-                layout.notes.push(format!(
-                    "the data section's CRC does not match (stored {stored:08x}, computed \
-                     {computed:08x}): bytes outside the chunks' contents (record headers, \
-                     indexes, metadata) are damaged"
-                ));
-            }
+        if stored != 0 && stored != computed && !damaged_before() {
+            layout.notes.push(format!(
+                "the data section's CRC does not match (stored {stored:08x}, computed \
+                 {computed:08x}): bytes outside the chunks' contents (record headers, \
+                 indexes, metadata) are damaged"
+            ));
         }
     } else {
         layout.notes.push(format!(

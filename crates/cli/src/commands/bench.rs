@@ -138,7 +138,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             args.samples
         );
     }
-    debug_assert!(MAX_BENCH_SAMPLES <= MAX_SAMPLES);
+    const { assert!(MAX_BENCH_SAMPLES <= MAX_SAMPLES) };
     let case = args.case();
     case.validate().map_err(case_error)?;
     if args.t_end <= 0.0 || args.samples < 2 {
