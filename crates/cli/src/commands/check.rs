@@ -332,29 +332,17 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     check_finite_report(&report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     let start_state_error = start_error.unwrap_or(f64::NAN);
+    let doc = Document {
+        file: args.file.display().to_string(),
+        case: &case,
+        start_state_error,
+        start_distance_from_n: distance,
+        report: &report,
+        mcap: mcap.clone(),
+    };
     match args.format {
-        Format::Json => output::write_json(
-            out,
-            &Document {
-                file: args.file.display().to_string(),
-                case: &case,
-                start_state_error,
-                start_distance_from_n: distance,
-                report: &report,
-                mcap: mcap.clone(),
-            },
-        )?,
-        Format::Csv => output::write_records_csv(
-            out,
-            &[&Document {
-                file: args.file.display().to_string(),
-                case: &case,
-                start_state_error,
-                start_distance_from_n: distance,
-                report: &report,
-                mcap: mcap.clone(),
-            }],
-        )?,
+        Format::Json => output::write_json(out, &doc)?,
+        Format::Csv => output::write_records_csv(out, &[&doc])?,
         Format::Table => {
             output::write_key_values(
                 out,
