@@ -253,7 +253,39 @@ impl MethodArgs {
     /// The checked method configuration.
     pub fn config(&self) -> anyhow::Result<MethodConfig> {
         let tolerances = Tolerances::new(self.rtol, self.atol).context("--rtol/--atol")?;
-        MethodConfig::new(self.method, tolerances, self.step).context("--step")
+        if let Some(h) = self.step {
+            MethodConfig::new(MethodName::Rk4, tolerances, Some(h)).context("--step")?;
+        }
+        MethodConfig::new(self.method, tolerances, self.step).context("--rtol")
+    }
+}
+
+/// An error of the closed form or of a comparison, prefixed with the options it concerns
+/// (`--m/--h: (m, h) lies on Σ …`, `--t-end/--rtol/--atol: … steps …`).
+pub fn case_error(e: impl Into<rsts_harness::HarnessError>) -> anyhow::Error {
+    use rsts_closed_form::ClosedFormError as C;
+    use rsts_harness::HarnessError as H;
+    let e: H = e.into();
+    let options: String = match &e {
+        H::ClosedForm(c) => match c {
+            C::Parameters(_) => "--a/--b".into(),
+            C::Range(name, _) => format!("--{name}"),
+            C::NotAdmissible(_) | C::OnSigma(_) => "--m/--h".into(),
+            C::NoSuchTorus { .. } => "--torus".into(),
+            C::Internal(_) => String::new(),
+        },
+        H::Dynamics(rsts_dynamics::DynamicsError::Settings(_)) => "--t-end/--rtol/--atol".into(),
+        H::Case(msg) => ["t-end", "samples", "phase1", "phase2", "a", "b", "m", "h"]
+            .into_iter()
+            .find(|name| msg.starts_with(&format!("{name} ")))
+            .map(|name| format!("--{name}"))
+            .unwrap_or_default(),
+        _ => String::new(),
+    };
+    if options.is_empty() {
+        anyhow::anyhow!("{e}")
+    } else {
+        anyhow::anyhow!("{options}: {e}")
     }
 }
 

@@ -11,9 +11,21 @@ use crate::args::finite_f64;
 /// `--exec-timeout`.
 #[derive(Debug, Clone, Args)]
 pub struct TimeoutArgs {
-    /// Seconds an external integrator (--exec) may take before it is killed
-    #[arg(long, value_name = "S", default_value = "600", value_parser = finite_f64)]
+    /// Seconds an external integrator (--exec) may take before it is killed (> 0)
+    #[arg(long, value_name = "S", default_value = "600", value_parser = seconds)]
     pub exec_timeout: f64,
+}
+
+/// A positive, finite number of seconds (checked with or without --exec).
+fn seconds(s: &str) -> Result<f64, String> {
+    let x = finite_f64(s)?;
+    if x > 0.0 && x <= 1e9 {
+        Ok(x)
+    } else {
+        Err(format!(
+            "must be a positive number of seconds (at most 1e9), got {x}"
+        ))
+    }
 }
 
 /// An external integrator from a command line, with the settings of a request.
@@ -24,6 +36,7 @@ pub fn exec_integrator(
     timeout: f64,
 ) -> anyhow::Result<Exec> {
     let mut exec = Exec::new(command, tolerances).map_err(|e| anyhow!("--exec: {e}"))?;
+    exec.check_program().map_err(|e| anyhow!("--exec: {e}"))?;
     if let Some(d) = digits {
         exec = exec.with_digits(d).map_err(|e| anyhow!("--digits: {e}"))?;
     }

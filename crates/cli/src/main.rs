@@ -8,6 +8,7 @@
 mod args;
 mod commands;
 mod external;
+mod interrupt;
 mod output;
 
 use std::io::{self, Write};
@@ -27,8 +28,7 @@ const EXIT_ERROR: u8 = 2;
 const EXIT_FAILED: u8 = 1;
 /// Exit code of `rsts inspect` when only part of a damaged file could be read.
 const EXIT_RECOVERED: u8 = 3;
-/// Exit code of a run stopped by Ctrl-C (128 + SIGINT).
-const EXIT_INTERRUPTED: u8 = 130;
+use interrupt::EXIT_INTERRUPTED;
 
 const TOP_EXAMPLES: &str = "\
 Examples:
@@ -122,6 +122,7 @@ fn is_broken_pipe(err: &anyhow::Error) -> bool {
 }
 
 fn main() -> ExitCode {
+    interrupt::install();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         // Usage errors print `error: ...` and exit 2; --help and --version exit 0.

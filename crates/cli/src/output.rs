@@ -18,8 +18,6 @@ pub enum Format {
 }
 
 /// One value of a table.
-// Int and Text are for the subcommands that tabulate counts and names (bench, compare).
-#[allow(dead_code)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Cell {
     Num(f64),
@@ -96,11 +94,57 @@ fn csv_field(s: &str) -> String {
     }
 }
 
+/// Largest size of one output file (2 GiB): a job whose estimated output is larger is refused
+/// before it starts.
+pub const MAX_OUTPUT_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
+
+/// Refuse an output of about `bytes` bytes above [`MAX_OUTPUT_BYTES`], naming the option that
+/// sets its size.
+pub fn check_output_bytes(option: &str, what: &str, bytes: f64) -> anyhow::Result<()> {
+    if bytes > MAX_OUTPUT_BYTES {
+        anyhow::bail!(
+            "{option}: {what} would take about {} bytes, more than the {} bytes (2 GiB) one output file may have; ask for less",
+            rsts_dynamics::short(bytes),
+            rsts_dynamics::short(MAX_OUTPUT_BYTES)
+        );
+    }
+    Ok(())
+}
+
+/// A non-finite number never reaches the output: it is an error naming the column and row.
+fn check_row(header: &[String], r: usize, row: &[Cell]) -> io::Result<()> {
+    for (c, cell) in row.iter().enumerate() {
+        if let Cell::Num(x) = cell {
+            if !x.is_finite() {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidData,
+                    format!(
+                        "the result is not finite: {} = {x} in row {}",
+                        header.get(c).map_or("?", String::as_str),
+                        r + 1
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// CSV: one header line, then one line per row; numbers at full precision.
 pub fn write_csv(out: &mut dyn Write, table: &Tabular) -> io::Result<()> {
-    let header: Vec<String> = table.header.iter().map(|h| csv_field(h)).collect();
-    writeln!(out, "{}", header.join(","))?;
-    for row in &table.rows {
+    write_csv_rows(out, &table.header, table.rows.iter().cloned())
+}
+
+/// [`write_csv`] of rows made on demand (nothing but the current row is kept).
+pub fn write_csv_rows(
+    out: &mut dyn Write,
+    header: &[String],
+    rows: impl Iterator<Item = Vec<Cell>>,
+) -> io::Result<()> {
+    let names: Vec<String> = header.iter().map(|h| csv_field(h)).collect();
+    writeln!(out, "{}", names.join(","))?;
+    for (r, row) in rows.enumerate() {
+        check_row(header, r, &row)?;
         let fields: Vec<String> = row.iter().map(|c| csv_field(&c.exact())).collect();
         writeln!(out, "{}", fields.join(","))?;
     }
@@ -109,32 +153,169 @@ pub fn write_csv(out: &mut dyn Write, table: &Tabular) -> io::Result<()> {
 
 /// Right-aligned columns separated by two spaces, a header and a rule.
 pub fn write_table(out: &mut dyn Write, table: &Tabular) -> io::Result<()> {
-    let cells: Vec<Vec<String>> = table
-        .rows
-        .iter()
-        .map(|row| row.iter().map(Cell::readable).collect())
-        .collect();
-    let mut widths: Vec<usize> = table.header.iter().map(|h| h.chars().count()).collect();
-    for row in &cells {
-        for (w, c) in widths.iter_mut().zip(row) {
-            *w = (*w).max(c.chars().count());
+    write_table_rows(out, &table.header, || table.rows.iter().cloned())
+}
+
+/// [`write_table`] of rows made on demand, twice: once for the column widths, once to print
+/// (nothing but the current row is kept).
+pub fn write_table_rows<I: Iterator<Item = Vec<Cell>>>(
+    out: &mut dyn Write,
+    header: &[String],
+    rows: impl Fn() -> I,
+) -> io::Result<()> {
+    let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+    for (r, row) in rows().enumerate() {
+        check_row(header, r, &row)?;
+        for (w, c) in widths.iter_mut().zip(&row) {
+            *w = (*w).max(c.readable().chars().count());
         }
     }
-    let line = |items: &[String]| -> String {
+    let line = |items: &mut dyn Iterator<Item = String>| -> String {
         let padded: Vec<String> = items
-            .iter()
             .zip(&widths)
             .map(|(s, &w)| format!("{s:>w$}"))
             .collect();
         padded.join("  ")
     };
-    writeln!(out, "{}", line(&table.header))?;
+    writeln!(out, "{}", line(&mut header.iter().cloned()))?;
     let total = widths.iter().sum::<usize>() + 2 * widths.len().saturating_sub(1);
     writeln!(out, "{}", "-".repeat(total))?;
-    for row in &cells {
-        writeln!(out, "{}", line(row))?;
+    for row in rows() {
+        writeln!(out, "{}", line(&mut row.iter().map(Cell::readable)))?;
     }
     Ok(())
+}
+
+/// A JSON value that keeps the order of object keys (serde_json's `Value` sorts them), so CSV
+/// columns come in the order of the document's fields.
+enum Ordered {
+    Leaf(serde_json::Value),
+    Object(Vec<(String, Ordered)>),
+    Array(Vec<Ordered>),
+}
+
+impl<'de> serde::Deserialize<'de> for Ordered {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::{MapAccess, SeqAccess, Visitor};
+        use serde_json::Value;
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Ordered;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a JSON value")
+            }
+            fn visit_bool<E>(self, b: bool) -> Result<Ordered, E> {
+                Ok(Ordered::Leaf(Value::Bool(b)))
+            }
+            fn visit_i64<E>(self, x: i64) -> Result<Ordered, E> {
+                Ok(Ordered::Leaf(Value::from(x)))
+            }
+            fn visit_u64<E>(self, x: u64) -> Result<Ordered, E> {
+                Ok(Ordered::Leaf(Value::from(x)))
+            }
+            fn visit_f64<E>(self, x: f64) -> Result<Ordered, E> {
+                Ok(Ordered::Leaf(Value::from(x)))
+            }
+            fn visit_str<E>(self, s: &str) -> Result<Ordered, E> {
+                Ok(Ordered::Leaf(Value::from(s)))
+            }
+            fn visit_unit<E>(self) -> Result<Ordered, E> {
+                Ok(Ordered::Leaf(Value::Null))
+            }
+            fn visit_none<E>(self) -> Result<Ordered, E> {
+                Ok(Ordered::Leaf(Value::Null))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut a: A) -> Result<Ordered, A::Error> {
+                let mut v = Vec::new();
+                while let Some(x) = a.next_element()? {
+                    v.push(x);
+                }
+                Ok(Ordered::Array(v))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut a: A) -> Result<Ordered, A::Error> {
+                let mut v = Vec::new();
+                while let Some((k, x)) = a.next_entry()? {
+                    v.push((k, x));
+                }
+                Ok(Ordered::Object(v))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// The leaves of a document as CSV columns, in the order of its fields: object keys joined by
+/// `_`, array elements numbered from 1 after the name (`omega1`, `drift_H`); a scalar at the top
+/// is the column `value`.
+pub fn flatten_columns<T: Serialize + ?Sized>(
+    doc: &T,
+) -> serde_json::Result<Vec<(String, serde_json::Value)>> {
+    fn go(prefix: &str, v: Ordered, out: &mut Vec<(String, serde_json::Value)>) {
+        match v {
+            Ordered::Object(m) => {
+                for (k, x) in m {
+                    let name = if prefix.is_empty() {
+                        k
+                    } else {
+                        format!("{prefix}_{k}")
+                    };
+                    go(&name, x, out);
+                }
+            }
+            Ordered::Array(a) => {
+                for (i, x) in a.into_iter().enumerate() {
+                    go(&format!("{prefix}{}", i + 1), x, out);
+                }
+            }
+            Ordered::Leaf(leaf) => out.push((
+                if prefix.is_empty() {
+                    "value".to_string()
+                } else {
+                    prefix.to_string()
+                },
+                leaf,
+            )),
+        }
+    }
+    let ordered: Ordered = serde_json::from_str(&serde_json::to_string(doc)?)?;
+    let mut out = Vec::new();
+    go("", ordered, &mut out);
+    Ok(out)
+}
+
+/// CSV of documents (one row each, [`flatten_columns`]): the header is the union of the columns
+/// in order of first appearance; numbers at full precision, null or missing empty.
+pub fn write_records_csv<T: Serialize>(out: &mut dyn Write, records: &[T]) -> io::Result<()> {
+    use serde_json::Value;
+    let flat = records
+        .iter()
+        .map(flatten_columns)
+        .collect::<serde_json::Result<Vec<_>>>()?;
+    let mut header: Vec<String> = Vec::new();
+    for row in &flat {
+        for (k, _) in row {
+            if !header.contains(k) {
+                header.push(k.clone());
+            }
+        }
+    }
+    let mut table = Tabular::new(header.clone());
+    for row in flat {
+        let cells = header
+            .iter()
+            .map(|h| match row.iter().find(|(k, _)| k == h).map(|(_, v)| v) {
+                Some(Value::Number(n)) => match n.as_f64() {
+                    Some(x) if n.is_f64() => Cell::Num(x),
+                    _ => Cell::Text(n.to_string()),
+                },
+                Some(Value::String(s)) => Cell::Text(s.clone()),
+                Some(Value::Bool(b)) => Cell::Text(b.to_string()),
+                _ => Cell::Text(String::new()),
+            })
+            .collect();
+        table.push(cells);
+    }
+    write_csv(out, &table)
 }
 
 /// `key: value` lines with the values aligned.

@@ -203,9 +203,10 @@ fn csv_rows_carry_the_json_errors_at_full_precision() {
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     let lines: Vec<&str> = text.lines().collect();
+    // The CSV columns are the JSON row's fields (docs/output.md).
     assert_eq!(
         lines[0],
-        "method,tolerance,max error,seconds,steps,rhs evals"
+        "method,tolerance,max_error,integration_seconds,steps,rhs_evals"
     );
     assert_eq!(lines.len(), 5);
     for (line, row) in lines[1..].iter().zip(rows(&doc)) {

@@ -31,11 +31,14 @@ fn error(args: &[&str]) -> String {
     err
 }
 
+/// A number of the document: a JSON number in f64, a decimal string at --digits (docs/output.md).
 fn num(v: &Value) -> f64 {
-    v.as_str()
-        .expect("numbers are decimal strings")
-        .parse()
-        .unwrap()
+    v.as_f64().unwrap_or_else(|| {
+        v.as_str()
+            .expect("a number or a decimal string")
+            .parse()
+            .unwrap()
+    })
 }
 
 #[test]

@@ -8,6 +8,16 @@ use crate::error::ClosedFormError;
 use crate::roots::{Root, RootLabel};
 use crate::separated::Radicand;
 
+/// Smallest and largest field strength a accepted.
+pub const A_RANGE: (f64, f64) = (1e-6, 1e6);
+/// b/a must lie in [B_OVER_A_MIN, 1 − B_OVER_A_MIN]: b → 0 (Kowalevski) and b → a (Yehia) are the
+/// reducible limits without N, and near them r² = a² − b² or b loses the digits of the inputs.
+pub const B_OVER_A_MIN: f64 = 1e-6;
+/// |m|·p and |h|/p (p = √(a² + b²), the dimensionless values: m scales like 1/p and h like p)
+/// must not exceed this. Measured: at |m|·p = 10⁶ the closed form still agrees with dop853 to
+/// 1e-13 over short times; beyond, the invariants (of size (p m)²) lose their digits in f64.
+pub const MH_SCALE_MAX: f64 = 1e6;
+
 /// a, b, m, h and the quantities derived from them.
 #[derive(Clone, Debug)]
 pub struct IntegralConstants<T> {
@@ -62,6 +72,66 @@ impl SigmaCurve {
     }
 }
 
+/// The documented ranges of a, b, m, h ([`A_RANGE`], [`B_OVER_A_MIN`], [`MH_SCALE_MAX`]), checked
+/// after a > b > 0 (pass m = h = 0 to check the fields alone).
+pub fn check_ranges<T: Real>(a: &T, b: &T, m: &T, h: &T) -> Result<(), ClosedFormError> {
+    let short = rsts_dynamics::short;
+    let (a, b, m, h) = (a.to_f64(), b.to_f64(), m.to_f64(), h.to_f64());
+    let (lo, hi) = A_RANGE;
+    if !(lo..=hi).contains(&a) {
+        return Err(ClosedFormError::Range(
+            "a",
+            format!(
+                "a = {} is outside [{}, {}] (the problem scales: a = 1 loses nothing)",
+                short(a),
+                short(lo),
+                short(hi)
+            ),
+        ));
+    }
+    let ratio = b / a;
+    if !(B_OVER_A_MIN..=1.0 - B_OVER_A_MIN).contains(&ratio) {
+        return Err(ClosedFormError::Range(
+            "b",
+            format!(
+                "b/a = {} is outside [{}, 1 − {}]: too close to b = 0 (Kowalevski) or b = a \
+                 (Yehia) for the digits of f64",
+                short(ratio),
+                short(B_OVER_A_MIN),
+                short(B_OVER_A_MIN)
+            ),
+        ));
+    }
+    let p = (a * a + b * b).sqrt();
+    let m_max = MH_SCALE_MAX / p;
+    if m.is_nan() || m.abs() > m_max {
+        return Err(ClosedFormError::Range(
+            "m",
+            format!(
+                "|m| = {} exceeds {} (|m|·p ≤ {} with p = √(a² + b²) = {})",
+                short(m.abs()),
+                short(m_max),
+                short(MH_SCALE_MAX),
+                short(p)
+            ),
+        ));
+    }
+    let h_max = MH_SCALE_MAX * p;
+    if h.is_nan() || h.abs() > h_max {
+        return Err(ClosedFormError::Range(
+            "h",
+            format!(
+                "|h| = {} exceeds {} (|h| ≤ {}·p with p = √(a² + b²) = {})",
+                short(h.abs()),
+                short(h_max),
+                short(MH_SCALE_MAX),
+                short(p)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 impl<T: Real> IntegralConstants<T> {
     /// Checked constants: a > b > 0, (m, h) admissible and not on Σ.
     pub fn new(a: T, b: T, m: T, h: T) -> Result<Self, ClosedFormError> {
@@ -76,10 +146,11 @@ impl<T: Real> IntegralConstants<T> {
         if !(b > zero && a > b) {
             return Err(ClosedFormError::Parameters(format!(
                 "the closed form needs a > b > 0 (got a = {}, b = {}); b = 0 (Kovalevskaya) and b = a (Yehia) are reducible cases without the manifold N of this solution",
-                a.to_f64(),
-                b.to_f64()
+                rsts_dynamics::short(a.to_f64()),
+                rsts_dynamics::short(b.to_f64())
             )));
         }
+        check_ranges(&a, &b, &m, &h)?;
         let c = Self::unchecked(a, b, m, h);
         c.check_admissible()?;
         c.check_off_sigma()?;
@@ -144,52 +215,93 @@ impl<T: Real> IntegralConstants<T> {
         }
     }
 
-    /// Scale of the terms of each residual, for a relative test.
-    fn sigma_scale(&self) -> T {
+    /// Scale of the terms of the residual of `curve` (the sum of their magnitudes), for a
+    /// relative test.
+    fn sigma_scale(&self, curve: SigmaCurve) -> T {
         let two = self.a.lit(2.0);
-        self.h.abs()
-            + self.r2.clone() * self.m.abs()
-            + two * &self.a
-            + self.p2.clone() * self.m.square()
-            + self.a.one_like()
+        let line = self.h.abs() + self.r2.clone() * self.m.abs();
+        match curve {
+            SigmaCurve::OuterA | SigmaCurve::InnerA => line + two * &self.a,
+            SigmaCurve::OuterB | SigmaCurve::InnerB => line + two * &self.b,
+            SigmaCurve::Hyperbola => {
+                two.clone() * &self.p2 * self.m.square()
+                    + two * (self.h.clone() * &self.m).abs()
+                    + self.a.one_like()
+            }
+        }
+    }
+
+    /// Relative size of the rounding the inputs carry: that of f64 when a, b, m, h are all f64
+    /// numbers (they were typed as decimals and rounded to f64, even when the computation runs
+    /// in more bits), else that of the scalar.
+    fn input_epsilon(&self) -> T {
+        let is_f64 = |x: &T| {
+            let y = x.lit(x.to_f64());
+            (x.clone() - &y).abs() <= x.zero_like()
+        };
+        let eps = self.a.epsilon();
+        if [&self.a, &self.b, &self.m, &self.h].into_iter().all(is_f64) {
+            eps.max_of(self.a.lit(f64::EPSILON))
+        } else {
+            eps
+        }
     }
 
     fn check_admissible(&self) -> Result<(), ClosedFormError> {
         let zero = self.a.zero_like();
-        let (m, h) = (self.m.to_f64(), self.h.to_f64());
+        let short = |x: &T| rsts_dynamics::short(x.to_f64());
+        let (m, h) = (short(&self.m), short(&self.h));
         if self.ell2() < zero {
             return Err(ClosedFormError::NotAdmissible(format!(
-                "ℓ² = 2p²m² + 2hm + 1 = {:e} < 0 at m = {m}, h = {h}: beyond the hyperbola 2p²m² + 2hm + 1 = 0",
-                self.ell2().to_f64()
+                "ℓ² = 2p²m² + 2hm + 1 = {} < 0 at m = {m}, h = {h}: beyond the hyperbola 2p²m² + 2hm + 1 = 0",
+                short(&self.ell2())
             )));
         }
         if self.sigma_residual(SigmaCurve::OuterA) < zero {
             return Err(ClosedFormError::NotAdmissible(format!(
                 "h = {h} is below the boundary line h = r²m − 2a = {} at m = {m}",
-                (self.r2.clone() * &self.m - self.a.lit(2.0) * &self.a).to_f64()
+                short(&(self.r2.clone() * &self.m - self.a.lit(2.0) * &self.a))
             )));
         }
         if self.sigma_residual(SigmaCurve::OuterB) < zero {
             return Err(ClosedFormError::NotAdmissible(format!(
                 "h = {h} is below the boundary line h = −r²m − 2b = {} at m = {m}",
-                (-(self.r2.clone() * &self.m) - self.b.lit(2.0) * &self.b).to_f64()
+                short(&(-(self.r2.clone() * &self.m) - self.b.lit(2.0) * &self.b))
             )));
         }
         Ok(())
     }
 
+    /// A point within rounding of the inputs of a curve of Σ is on Σ: |residual| ≤ 16·ε·scale,
+    /// with ε the relative rounding of the inputs ([`Self::input_epsilon`]) and scale the sum
+    /// of the magnitudes of the curve's terms. Every curve the point is on is named.
     fn check_off_sigma(&self) -> Result<(), ClosedFormError> {
-        let tol = self.a.epsilon() * self.a.lit(16.0) * self.sigma_scale();
-        for curve in SigmaCurve::ALL {
-            if self.sigma_residual(curve).abs() <= tol {
-                return Err(ClosedFormError::OnSigma(format!(
-                    "the curve {} (residual {:e})",
-                    curve.equation(),
-                    self.sigma_residual(curve).to_f64()
-                )));
-            }
+        let eps = self.input_epsilon() * self.a.lit(16.0);
+        let on: Vec<String> = SigmaCurve::ALL
+            .into_iter()
+            .filter_map(|curve| {
+                let r = self.sigma_residual(curve);
+                let tol = eps.clone() * self.sigma_scale(curve);
+                (r.abs() <= tol).then(|| {
+                    format!(
+                        "{} {} (residual {}, within the rounding of the inputs: {})",
+                        if curve == SigmaCurve::Hyperbola {
+                            "the hyperbola"
+                        } else {
+                            "the line"
+                        },
+                        curve.equation(),
+                        rsts_dynamics::short(r.to_f64()),
+                        rsts_dynamics::short(tol.to_f64())
+                    )
+                })
+            })
+            .collect();
+        if on.is_empty() {
+            Ok(())
+        } else {
+            Err(ClosedFormError::OnSigma(on.join(" and ")))
         }
-        Ok(())
     }
 
     /// θ₁ = (ℓ − 1)/(2m) = (p²m + h)/(ℓ + 1) and θ₂ = (ℓ + 1)/(2m), the roots of Φ (sec. 3), in

@@ -16,6 +16,10 @@ pub enum ClosedFormError {
         camera: String,
         tori: usize,
     },
+    /// A parameter outside the documented range of the closed form (docs/closed-form.md):
+    /// the parameter's name (`a`, `b`, `m`, `h`) and why.
+    #[error("{1}")]
+    Range(&'static str, String),
     #[error("internal error: {0}")]
     Internal(String),
 }

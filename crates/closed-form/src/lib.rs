@@ -20,7 +20,7 @@ pub mod scalar;
 pub mod separated;
 
 pub use camera::{Camera, EXAMPLE_POINTS_A1_B05};
-pub use constants::{IntegralConstants, SigmaCurve};
+pub use constants::{check_ranges, IntegralConstants, SigmaCurve};
 pub use error::ClosedFormError;
 pub use formulas::ExplicitState;
 pub use motion::{ExplicitMotion, TorusChoice};

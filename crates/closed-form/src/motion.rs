@@ -67,10 +67,64 @@ fn free_sign_of<T: Real>(
 
 impl<T: Scalar> ExplicitMotion<T> {
     /// The motion for (a, b, m, h) on the chosen torus, in the precision of `a`. The constants
-    /// are computed [`GUARD_BITS`] beyond it and rounded once.
+    /// are computed [`GUARD_BITS`] beyond it and rounded once. The phase is exact to the working
+    /// precision for |t| up to [`valid_until`](Self::valid_until) (|u̇|·t below 2^(GUARD_BITS − 8),
+    /// ~1e17 periods); [`new_until`](Self::new_until) builds a clock for longer times.
     pub fn new(a: T, b: T, m: T, h: T, choice: TorusChoice) -> Result<Self, ClosedFormError> {
+        Self::with_clock_bits(a, b, m, h, choice, 0)
+    }
+
+    /// [`new`](Self::new) with a phase clock exact to the working precision for every |t| ≤
+    /// `t_max`: the constants of the clock (u₀, u̇, 4K) are computed with as many more bits as
+    /// log₂(|u̇|·t_max) needs (about 1000 more for t = 1e300), so the state at any finite time is
+    /// that of the motion, not of a phase that lost its digits.
+    pub fn new_until(
+        a: T,
+        b: T,
+        m: T,
+        h: T,
+        choice: TorusChoice,
+        t_max: f64,
+    ) -> Result<Self, ClosedFormError> {
+        let motion = Self::new(a.clone(), b.clone(), m.clone(), h.clone(), choice)?;
+        let u_dot = motion
+            .vars()
+            .iter()
+            .map(|v| v.u_dot.to_f64().abs())
+            .fold(0.0, f64::max);
+        let reach = (u_dot * t_max.abs()).max(1.0).log2().ceil();
+        let spare = f64::from(GUARD_BITS - 8);
+        if reach.is_nan() || reach <= spare {
+            return Ok(motion);
+        }
+        let extra = (reach - spare) as u32 + 8;
+        Self::with_clock_bits(a, b, m, h, choice, extra)
+    }
+
+    /// The largest |t| at which the phase is still exact to the working precision.
+    pub fn valid_until(&self) -> f64 {
+        let Some(clock) = &self.clock else {
+            return f64::INFINITY;
+        };
+        let spare = clock.bits() - self.constants.a.prec().max(53) - 8;
+        let u_dot = clock
+            .u_dot()
+            .iter()
+            .map(|u| u.to_f64().abs())
+            .fold(0.0, f64::max);
+        2f64.powi(spare as i32) / u_dot.max(f64::MIN_POSITIVE)
+    }
+
+    fn with_clock_bits(
+        a: T,
+        b: T,
+        m: T,
+        h: T,
+        choice: TorusChoice,
+        extra: u32,
+    ) -> Result<Self, ClosedFormError> {
         let bits = a.prec();
-        let hi = bits.max(53) + GUARD_BITS;
+        let hi = bits.max(53) + GUARD_BITS + extra;
         let up = |x: &T| x.to_mpfr(hi);
         let exact = ExplicitMotion::<Float>::build(up(&a), up(&b), up(&m), up(&h), choice)?;
         let down = |x: &Float| T::from_mpfr(x, bits);

@@ -22,3 +22,46 @@ pub use fields::Fields;
 pub use integrals::{integrals, Integrals};
 pub use scalar::Real;
 pub use state::State;
+
+/// A number for a message: at most 4 significant digits, in plain notation for moderate
+/// magnitudes (`0.2`, `-1.15`, `3000`, `1.235e-16`, `1e308`). Messages name numbers short;
+/// full precision belongs in the data (JSON, CSV).
+pub fn short(x: f64) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x == x.trunc() && x.abs() < 1e7 {
+        return format!("{}", x as i64);
+    }
+    let sci = format!("{x:.3e}");
+    let rounded: f64 = sci.parse().unwrap_or(x);
+    let (mantissa, exponent) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let exponent: i32 = exponent.parse().unwrap_or(0);
+    if (-4..7).contains(&exponent) {
+        format!("{rounded}")
+    } else {
+        let m = mantissa.trim_end_matches('0').trim_end_matches('.');
+        format!("{m}e{exponent}")
+    }
+}
+
+#[cfg(test)]
+mod short_tests {
+    use super::short;
+
+    #[test]
+    fn numbers_in_messages_are_short() {
+        assert_eq!(short(0.2), "0.2");
+        assert_eq!(short(0.1 + 0.2), "0.3");
+        assert_eq!(short(-1.15), "-1.15");
+        assert_eq!(short(2e8), "2e8");
+        assert_eq!(short(3000.0), "3000");
+        assert_eq!(short(1e9), "1e9");
+        assert_eq!(short(1.1102230246251565e-16), "1.11e-16");
+        assert_eq!(short(2.5e307), "2.5e307");
+        assert_eq!(short(-0.6666666666666666), "-0.6667");
+        assert_eq!(short(123456.789), "123500");
+        assert_eq!(short(f64::NAN), "NaN");
+        assert_eq!(short(0.0), "0");
+    }
+}

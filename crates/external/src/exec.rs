@@ -73,6 +73,36 @@ fn kill_group(pgid: i32) {
     }
 }
 
+/// Check, before any work, that `program` can be started: a path names an executable file, a
+/// bare name one found on the `PATH` (a run would otherwise fail only when its turn comes, after
+/// the rest of a benchmark or suite).
+pub fn check_program(program: &str) -> Result<(), String> {
+    let executable = |p: &std::path::Path| {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::metadata(p).is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+    };
+    if program.contains('/') {
+        let p = std::path::Path::new(program);
+        if !p.exists() {
+            return Err(format!("cannot start `{program}`: no such file"));
+        }
+        if !executable(p) {
+            return Err(format!(
+                "cannot start `{program}`: not an executable file (chmod +x, or name its interpreter first: python3 {program})"
+            ));
+        }
+        return Ok(());
+    }
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    if std::env::split_paths(&path).any(|d| executable(&d.join(program))) {
+        Ok(())
+    } else {
+        Err(format!(
+            "cannot start `{program}`: no such program on the PATH"
+        ))
+    }
+}
+
 /// Split a command line like a POSIX shell would (quotes, backslashes), without running a shell.
 pub fn split_command(command: &str) -> Result<Vec<String>, String> {
     let argv = shlex::split(command).ok_or_else(|| {
@@ -143,6 +173,11 @@ impl Exec {
         }
         self.timeout = Duration::from_secs_f64(seconds);
         Ok(self)
+    }
+
+    /// [`check_program`] of the command's program.
+    pub fn check_program(&self) -> Result<(), String> {
+        check_program(&self.argv[0])
     }
 
     /// The command as a shell-quoted line (for messages).

@@ -283,24 +283,30 @@ pub fn read_mcap(path: &Path) -> Result<RawTrajectory, String> {
 /// Write `rows` (t and the nine components, or more columns) as an npy float64 array of shape
 /// (N, width), C order, version 1.0 (what `numpy.save` writes).
 pub fn npy_bytes(rows: &[Vec<f64>], width: usize) -> Vec<u8> {
-    let mut header = format!(
-        "{{'descr': '<f8', 'fortran_order': False, 'shape': ({}, {width}), }}",
-        rows.len()
-    );
-    // Magic (6) + version (2) + length (2) + header + '\n', padded to a multiple of 64.
-    let total = 10 + header.len() + 1;
-    header.push_str(&" ".repeat((64 - total % 64) % 64));
-    header.push('\n');
-    let mut out = Vec::with_capacity(10 + header.len() + 8 * rows.len() * width);
-    out.extend_from_slice(b"\x93NUMPY\x01\x00");
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
+    let mut out = npy_header(rows.len(), width);
+    out.reserve(8 * rows.len() * width);
     for row in rows {
         debug_assert_eq!(row.len(), width);
         for x in row {
             out.extend_from_slice(&x.to_le_bytes());
         }
     }
+    out
+}
+
+/// The header of a `.npy` file of `rows` × `width` float64 values (little-endian, C order); the
+/// values follow it, row after row (so a file can be written one row at a time).
+pub fn npy_header(rows: usize, width: usize) -> Vec<u8> {
+    let mut header =
+        format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({rows}, {width}), }}");
+    // Magic (6) + version (2) + length (2) + header + '\n', padded to a multiple of 64.
+    let total = 10 + header.len() + 1;
+    header.push_str(&" ".repeat((64 - total % 64) % 64));
+    header.push('\n');
+    let mut out = Vec::with_capacity(10 + header.len());
+    out.extend_from_slice(b"\x93NUMPY\x01\x00");
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
     out
 }
 

@@ -16,7 +16,8 @@ pub mod files;
 pub mod samples;
 
 pub use exec::{
-    kill_running, split_command, Exec, DEFAULT_DIGITS, DEFAULT_TIMEOUT_SECONDS, PROTOCOL,
+    check_program, kill_running, split_command, Exec, DEFAULT_DIGITS, DEFAULT_TIMEOUT_SECONDS,
+    PROTOCOL,
 };
-pub use files::{npy_bytes, read_trajectory, FileFormat, COLUMNS};
+pub use files::{npy_bytes, npy_header, read_trajectory, FileFormat, COLUMNS};
 pub use samples::{Number, RawTrajectory, Samples};

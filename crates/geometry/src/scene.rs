@@ -11,8 +11,6 @@
 //! (frame `world`). Log time of a sample at motion time t: round(t·10⁹) ns.
 
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use mcap::records::MessageHeader;
@@ -40,8 +38,8 @@ pub struct SceneStats {
     pub bytes: u64,
 }
 
-fn mcap_err(e: impl std::fmt::Display) -> GeometryError {
-    GeometryError::Mcap(e.to_string())
+fn mcap_err(e: impl std::error::Error + 'static) -> GeometryError {
+    GeometryError::Mcap(rsts_io::error_text(&e))
 }
 
 fn stamp(ns: u64) -> Value {
@@ -96,7 +94,7 @@ pub fn surface_update(
 }
 
 struct Writer {
-    w: mcap::Writer<BufWriter<File>>,
+    w: mcap::Writer<rsts_io::AtomicFile>,
     seq: BTreeMap<u16, u32>,
     stats: SceneStats,
 }
@@ -126,19 +124,21 @@ impl Writer {
 /// Points of the hodographs per SceneUpdate (one LINE_STRIP entity per batch).
 pub const BATCH: usize = 8;
 
-/// Write the scene of one torus and a stretch of its motion to `path`.
+/// Write the scene of one torus and a stretch of its motion to `path`, whole or not at all (a
+/// temporary beside it is renamed into place at the end).
 pub fn write_scene(
     path: &Path,
     mesh: &TorusMesh,
     motion: &Hodograph,
 ) -> Result<SceneStats, GeometryError> {
     let io = |context: String| move |source| GeometryError::Io { context, source };
-    let file = File::create(path).map_err(io(format!("cannot create {}", path.display())))?;
+    let file = rsts_io::AtomicFile::create(path)
+        .map_err(io(format!("cannot create {}", path.display())))?;
     let opts = mcap::WriteOptions::new()
         .compression(Some(mcap::Compression::Zstd))
         .profile("")
         .library(format!("rsts-geometry/{}", env!("CARGO_PKG_VERSION")));
-    let mut w = opts.create(BufWriter::new(file)).map_err(mcap_err)?;
+    let mut w = opts.create(file).map_err(mcap_err)?;
     let tf_s = w
         .add_schema(
             schemas::FRAME_TRANSFORM_NAME,
@@ -248,9 +248,8 @@ pub fn write_scene(
     }
     let Writer { mut w, stats, .. } = out;
     w.finish().map_err(mcap_err)?;
-    let mut inner = w.into_inner();
-    inner
-        .flush()
+    w.into_inner()
+        .commit()
         .map_err(io(format!("cannot write {}", path.display())))?;
     Ok(stats)
 }

@@ -69,7 +69,8 @@ impl Case {
         Ok(())
     }
 
-    /// The closed-form motion of the case and its fields, at `bits` bits (the reference).
+    /// The closed-form motion of the case and its fields, at `bits` bits (the reference), exact
+    /// at every time up to t-end.
     pub fn reference_motion(
         &self,
         bits: u32,
@@ -81,7 +82,15 @@ impl Case {
             phase1: self.phase1,
             phase2: self.phase2,
         };
-        let motion = ExplicitMotion::new(f(self.a), f(self.b), f(self.m), f(self.h), choice)?;
+        // The phase clock carries the bits t-end needs (the state at t = 1e300 is the motion's).
+        let motion = ExplicitMotion::new_until(
+            f(self.a),
+            f(self.b),
+            f(self.m),
+            f(self.h),
+            choice,
+            self.t_end,
+        )?;
         let fields = Fields::new(f(self.a), f(self.b))?;
         Ok((motion, fields))
     }

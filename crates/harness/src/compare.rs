@@ -1,13 +1,13 @@
 //! Compare = produce a trajectory with an integrator + analyse it against the closed form.
 
-use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem};
+use rsts_dynamics::integrators::{map_problem, MethodConfig, OutputGrid, Problem};
 use rsts_dynamics::scalar::bits_for_digits;
 use rug::Float;
 
 use crate::analysis::{Analysis, Observer, RunInfo};
 use crate::case::Case;
 use crate::integrator::Integrator;
-use crate::metrics::Report;
+use crate::metrics::{exact_state, Report};
 use crate::HarnessError;
 
 /// Bits the closed-form reference carries beyond the integrator's scalar.
@@ -55,6 +55,26 @@ pub fn run_info(integrator: &dyn Integrator) -> RunInfo {
     }
 }
 
+/// Check a comparison of the built-in method `config` before any work or output is done: the
+/// case (finite numbers, a point of N off Σ within the documented ranges, an existing torus),
+/// the grid, and the method's step budget over the whole grid ([`MethodConfig::check_budget`]:
+/// a hopeless run is refused at once with its estimate, not after hours).
+pub fn preflight(case: &Case, config: &MethodConfig) -> Result<(), HarnessError> {
+    let bits = reference_bits(config);
+    let (motion, fields) = case.reference_motion(bits)?;
+    let grid = OutputGrid::new(case.t_end, case.samples)?;
+    let start = exact_state(&motion.at(&Float::with_val(bits, 0.0)));
+    let problem = map_problem(
+        &Problem {
+            fields,
+            initial: start,
+        },
+        Float::to_f64,
+    );
+    config.check_budget(&problem, &grid)?;
+    Ok(())
+}
+
 /// Compare the built-in method `config` with the closed form along `case`.
 pub fn compare(
     case: &Case,
@@ -83,6 +103,13 @@ pub fn compare_integrator(
     let grid = OutputGrid::new(case.t_end, case.samples)?;
     let start = analysis.exact_state(&f(0.0));
     let fields = analysis.fields().clone();
+    integrator.check_budget(
+        &Problem {
+            fields: fields.clone(),
+            initial: start.clone(),
+        },
+        &grid,
+    )?;
     if case.samples == 1 || case.t_end == 0.0 {
         // No time passes: every sample is the start, rounded to the integrator's scalar.
         let problem = Problem {

@@ -78,6 +78,17 @@ pub trait Integrator {
     fn restartable(&self) -> bool {
         true
     }
+    /// Refuse at once a run over the whole of `grid` from `problem` that cannot fit the
+    /// integrator's limits (a built-in method's step budget), before the harness cuts it into
+    /// pieces and starts. Default: no limit known.
+    fn check_budget(
+        &self,
+        problem: &Problem<Float>,
+        grid: &OutputGrid,
+    ) -> Result<(), HarnessError> {
+        let _ = (problem, grid);
+        Ok(())
+    }
 }
 
 /// `times` as an evenly spaced grid from 0, when it is exactly one.
@@ -172,6 +183,18 @@ impl Integrator for MethodConfig {
 
     fn working_bits(&self) -> u32 {
         MethodConfig::working_bits(self)
+    }
+
+    fn check_budget(
+        &self,
+        problem: &Problem<Float>,
+        grid: &OutputGrid,
+    ) -> Result<(), HarnessError> {
+        Ok(MethodConfig::check_budget(
+            self,
+            &map_problem(problem, Float::to_f64),
+            grid,
+        )?)
     }
 
     fn integrate(

@@ -29,8 +29,8 @@ pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
 pub use bench::{measure, measure_against, measure_integrator, BenchRow, Reference};
 pub use case::Case;
 pub use compare::{
-    compare, compare_integrator, reference_bits, reference_bits_for, run_info, CompareOptions,
-    DEFAULT_PIECES, REFERENCE_GUARD_BITS,
+    compare, compare_integrator, preflight, reference_bits, reference_bits_for, run_info,
+    CompareOptions, DEFAULT_PIECES, REFERENCE_GUARD_BITS,
 };
 pub use integrator::{check_times, Integrator, Propagated, Trajectory};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot};

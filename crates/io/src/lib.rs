@@ -34,14 +34,29 @@ fn unregister(p: &Path) {
     }
 }
 
-/// Remove every temporary file and directory this process still has open (for a signal handler
+/// Remove every temporary file and directory this process still has open (for a Ctrl-C handler
 /// that is about to exit: the targets keep their previous contents). Safe to call more than once.
 pub fn remove_temporaries() {
-    // try_lock: a handler must not wait for a lock the interrupted thread may hold.
-    let paths: Vec<PathBuf> = match OPEN.try_lock() {
-        Ok(mut set) => std::mem::take(&mut *set).into_iter().collect(),
-        Err(_) => return,
-    };
+    // Never block for long: a true signal handler must not wait for a lock the interrupted
+    // thread may hold. The lock is only ever held for a set insertion or removal, so a few
+    // tries over ~0.2 s get it unless that thread is itself stopped inside one.
+    let mut paths: Option<Vec<PathBuf>> = None;
+    for _ in 0..200 {
+        match OPEN.try_lock() {
+            Ok(mut set) => {
+                paths = Some(std::mem::take(&mut *set).into_iter().collect());
+                break;
+            }
+            Err(std::sync::TryLockError::Poisoned(p)) => {
+                paths = Some(std::mem::take(&mut *p.into_inner()).into_iter().collect());
+                break;
+            }
+            Err(std::sync::TryLockError::WouldBlock) => {
+                std::thread::sleep(std::time::Duration::from_millis(1))
+            }
+        }
+    }
+    let Some(paths) = paths else { return };
     for p in paths {
         if p.is_dir() {
             let _ = fs::remove_dir_all(&p);
@@ -83,8 +98,10 @@ fn context(e: io::Error, what: impl std::fmt::Display) -> io::Error {
     io::Error::new(e.kind(), format!("{what}: {e}"))
 }
 
-/// Create the directory of `target` if needed and check that a file can be created in it and that
-/// `target` itself is not a directory. Nothing is left behind.
+/// Check, before long work starts, that `target` can be written: it is not a directory, and a
+/// file can be created in its directory — or, when that directory does not exist yet, in its
+/// nearest existing ancestor, which must be a directory (the missing ones are created only when
+/// the file is written). Nothing is left behind, not even a directory.
 pub fn check_writable(target: &Path) -> io::Result<()> {
     if target.is_dir() {
         return Err(io::Error::new(
@@ -93,15 +110,45 @@ pub fn check_writable(target: &Path) -> io::Result<()> {
         ));
     }
     let dir = parent_dir(target);
-    fs::create_dir_all(&dir).map_err(|e| context(e, format!("cannot create {}", dir.display())))?;
-    let tmp = temporary_beside(target)?;
+    let mut existing = dir.as_path();
+    while !existing.exists() {
+        match existing.parent() {
+            Some(p) if !p.as_os_str().is_empty() => existing = p,
+            _ => {
+                existing = Path::new(".");
+                break;
+            }
+        }
+    }
+    if !existing.is_dir() {
+        return Err(io::Error::new(
+            io::ErrorKind::NotADirectory,
+            format!(
+                "cannot create {}: {} is not a directory",
+                dir.display(),
+                existing.display()
+            ),
+        ));
+    }
+    let probe = temporary_beside(&existing.join("probe"))?;
     File::options()
         .write(true)
         .create_new(true)
-        .open(&tmp)
-        .map_err(|e| context(e, format!("cannot write in {}", dir.display())))?;
-    let _ = fs::remove_file(&tmp);
+        .open(&probe)
+        .map_err(|e| context(e, format!("cannot write in {}", existing.display())))?;
+    let _ = fs::remove_file(&probe);
     Ok(())
+}
+
+/// [`check_writable`] for a directory of outputs (`dir` itself may exist; files go inside it).
+pub fn check_writable_dir(dir: &Path) -> io::Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{} exists and is not a directory", dir.display()),
+        ));
+    }
+    check_writable(&dir.join("probe"))
 }
 
 /// A file that appears at its path only when [`commit`](Self::commit)ted.
@@ -126,13 +173,17 @@ impl AtomicFile {
         fs::create_dir_all(&dir)
             .map_err(|e| context(e, format!("cannot create {}", dir.display())))?;
         let tmp = temporary_beside(&target)?;
+        // Registered before it exists: a Ctrl-C right after the creation still removes it.
+        register(&tmp);
         let file = OpenOptions::new()
             .read(true)
             .write(true)
             .create_new(true)
             .open(&tmp)
-            .map_err(|e| context(e, format!("cannot create {}", target.display())))?;
-        register(&tmp);
+            .map_err(|e| {
+                unregister(&tmp);
+                context(e, format!("cannot create {}", target.display()))
+            })?;
         Ok(Self {
             target,
             tmp,
@@ -236,9 +287,11 @@ impl AtomicDir {
         fs::create_dir_all(&dir)
             .map_err(|e| context(e, format!("cannot create {}", dir.display())))?;
         let tmp = temporary_beside(&target)?;
-        fs::create_dir(&tmp)
-            .map_err(|e| context(e, format!("cannot create {}", target.display())))?;
         register(&tmp);
+        fs::create_dir(&tmp).map_err(|e| {
+            unregister(&tmp);
+            context(e, format!("cannot create {}", target.display()))
+        })?;
         Ok(Self {
             target,
             tmp,
@@ -314,6 +367,23 @@ fn replace_dir(new: &Path, target: &Path) -> io::Result<()> {
     }
     let _ = fs::remove_dir_all(&aside);
     Ok(())
+}
+
+/// An error with all its causes, `outer: inner: os error` (keeps the underlying OS error, e.g.
+/// "No space left on device", that many wrappers' own messages leave out). A cause whose text is
+/// already part of the previous one is not repeated.
+pub fn error_text(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        let t = c.to_string();
+        if !text.contains(&t) {
+            text.push_str(": ");
+            text.push_str(&t);
+        }
+        cause = c.source();
+    }
+    text
 }
 
 /// Tests that cannot run here (an optional tool such as node, scipy or heyoka is missing) call
@@ -413,8 +483,13 @@ mod tests {
         assert!(AtomicFile::create(&d).is_err());
         assert!(check_writable(&d).is_err());
         assert!(check_writable(Path::new("/proc/rsts-io-test/x")).is_err());
+        let file = d.join("file");
+        fs::write(&file, "x").unwrap();
+        assert!(check_writable(&file.join("below/x.json")).is_err());
+        assert!(check_writable_dir(&file).is_err());
         check_writable(&d.join("new/deeper/file.json")).unwrap();
-        assert_eq!(entries(&d.join("new/deeper")), Vec::<String>::new());
+        check_writable_dir(&d.join("new/report")).unwrap();
+        assert_eq!(entries(&d), vec!["file"], "nothing is created");
     }
 
     #[test]

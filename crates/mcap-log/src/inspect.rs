@@ -133,6 +133,10 @@ struct Scan {
     time_range: Option<(u64, u64)>,
     notes: Vec<String>,
     saw_data_end: bool,
+    /// The summary section and footer are whole and their CRC matches.
+    summary_sound: bool,
+    /// Messages whose channel definition was not read (it was in a lost chunk); skipped.
+    orphans: u64,
 }
 
 /// A message as seen by the scan callback.
@@ -174,16 +178,12 @@ impl Scan {
                         data: &data,
                     });
                 }
-                None => self.notes.push(format!(
-                    "message {} refers to unknown channel {}; skipped",
-                    header.sequence, header.channel_id
-                )),
+                None => self.orphans += 1,
             },
             Record::Metadata(m) => self.metadata.push(MetadataRecord {
                 name: m.name,
                 metadata: m.metadata,
             }),
-            Record::DataEnd(_) => self.saw_data_end = true,
             _ => {}
         }
     }
@@ -195,9 +195,15 @@ fn read_file(path: &Path) -> Result<Vec<u8>, InspectError> {
         source,
     })?;
     if buf.len() < mcap::MAGIC.len() {
+        let n = buf.len();
+        let reason = if n > 0 && mcap::MAGIC.starts_with(&buf) {
+            format!("truncated at byte {n}, inside the MCAP magic: nothing can be recovered")
+        } else {
+            format!("only {n} bytes, shorter than the MCAP magic")
+        };
         return Err(InspectError::NotMcap {
             path: path.to_path_buf(),
-            reason: format!("only {} bytes, shorter than the MCAP magic", buf.len()),
+            reason,
         });
     }
     if !buf.starts_with(mcap::MAGIC) {
@@ -209,59 +215,61 @@ fn read_file(path: &Path) -> Result<Vec<u8>, InspectError> {
     Ok(buf)
 }
 
+/// Read the whole file: frame its records ([`crate::framing::walk`], which also checks the data
+/// and summary CRCs, the footer and the closing magic), decompress and check every chunk (a
+/// chunk whose CRC does not match is skipped whole), and hand every message to `on_msg`.
 fn scan(buf: &[u8], on_msg: &mut dyn FnMut(Msg<'_>)) -> Scan {
     let mut s = Scan::default();
-    let reader = match mcap::read::LinearReader::new_with_options(
-        buf,
-        mcap::read::Options::IgnoreEndMagic.into(),
-    ) {
-        Ok(r) => r,
-        Err(e) => {
-            s.notes.push(format!("cannot start reading: {e}"));
-            return s;
-        }
-    };
     let mut chunk_no = 0u64;
-    for rec in reader {
-        match rec {
-            Ok(Record::Chunk { header, data }) => {
-                chunk_no += 1;
-                let (start, end) = (header.message_start_time, header.message_end_time);
-                match read_chunk(&header, &data) {
-                    Ok(records) => {
-                        for r in records {
-                            s.record(r, on_msg);
+    let damaged = std::cell::Cell::new(false);
+    let layout = crate::framing::walk(
+        buf,
+        &mut |opcode, offset, body| {
+            let record = match mcap::parse_record(opcode, body) {
+                Ok(r) => r,
+                Err(e) => {
+                    damaged.set(true);
+                    s.notes.push(format!(
+                        "the record at byte {offset} (opcode {opcode:#04x}) is damaged and was skipped: {e}"
+                    ));
+                    return;
+                }
+            };
+            match record {
+                Record::Chunk { header, data } => {
+                    chunk_no += 1;
+                    let (start, end) = (header.message_start_time, header.message_end_time);
+                    match read_chunk(&header, &data) {
+                        Ok(records) => {
+                            for r in records {
+                                s.record(r, on_msg);
+                            }
+                        }
+                        Err(e) => {
+                            damaged.set(true);
+                            s.notes.push(format!(
+                                "chunk {chunk_no} (bytes {offset} to {}, log times {} to {} s) is damaged and was skipped: {e}",
+                                offset + 9 + body.len(),
+                                ns_to_s(start),
+                                ns_to_s(end)
+                            ));
                         }
                     }
-                    Err(e) => s.notes.push(format!(
-                        "chunk {chunk_no} (log times {} to {} s) is damaged and was skipped: {e}",
-                        ns_to_s(start),
-                        ns_to_s(end)
-                    )),
                 }
+                r => s.record(r, on_msg),
             }
-            Ok(r) => s.record(r, on_msg),
-            Err(e) => {
-                let what = match e {
-                    mcap::McapError::UnexpectedEof => {
-                        "the file ends in the middle of a record (truncated: the writer did not finish)".to_string()
-                    }
-                    other => format!("unreadable record ({other})"),
-                };
-                s.notes.push(format!(
-                    "reading stopped after chunk {chunk_no}: {what}; everything before it was recovered"
-                ));
-                break;
-            }
-        }
-        if s.saw_data_end {
-            break;
-        }
+        },
+        &|| damaged.get(),
+    );
+    if s.orphans > 0 {
+        s.notes.push(format!(
+            "{} message(s) refer to channels whose definitions were lost with a damaged chunk; skipped",
+            s.orphans
+        ));
     }
-    if !s.saw_data_end && s.notes.is_empty() {
-        s.notes
-            .push("the data section has no end record (the writer did not finish)".into());
-    }
+    s.notes.extend(layout.notes);
+    s.saw_data_end = layout.saw_data_end;
+    s.summary_sound = layout.summary_sound;
     s
 }
 
@@ -339,26 +347,26 @@ fn guarded<T>(path: &Path, f: impl FnOnce() -> Result<T, InspectError>) -> Resul
     }
 }
 
-/// Flattens a JSON value into `(path, leaf)` pairs: object keys and array indices joined by
-/// `.` (`gamma.2`, `quaternion.w`); a scalar at the top has the path `""`.
+/// Flattens a JSON value into `(column, leaf)` pairs with the CSV column naming of every
+/// `rsts` command (docs/output.md): array elements numbered from 1 after the name (`omega1`,
+/// `gamma3`), object keys joined by `_` (`quaternion_w`, `rotation_x`); a scalar at the top has
+/// the name `""`.
 pub fn flatten(value: &Value) -> Vec<(String, Value)> {
     fn go(prefix: &str, v: &Value, out: &mut Vec<(String, Value)>) {
-        let join = |k: &str| {
-            if prefix.is_empty() {
-                k.to_string()
-            } else {
-                format!("{prefix}.{k}")
-            }
-        };
         match v {
             Value::Object(m) => {
                 for (k, x) in m {
-                    go(&join(k), x, out);
+                    let name = if prefix.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{prefix}_{k}")
+                    };
+                    go(&name, x, out);
                 }
             }
             Value::Array(a) => {
                 for (i, x) in a.iter().enumerate() {
-                    go(&join(&i.to_string()), x, out);
+                    go(&format!("{prefix}{}", i + 1), x, out);
                 }
             }
             leaf => out.push((prefix.to_string(), leaf.clone())),
@@ -424,67 +432,7 @@ fn summarize_bytes(path: &Path, buf: &[u8]) -> Summary {
         ));
     }
 
-    let mut has_summary_section = false;
-    let scan_ok = s.notes.is_empty();
-    match mcap::Summary::read(buf) {
-        Ok(Some(sum)) => {
-            has_summary_section = true;
-            if let Some(stats) = &sum.stats {
-                let mut disagreements = Vec::new();
-                if stats.message_count != s.message_count {
-                    disagreements.push(format!(
-                        "the summary section counts {} messages, {} could be read",
-                        stats.message_count, s.message_count
-                    ));
-                }
-                for (id, n) in &stats.channel_message_counts {
-                    let got = s.channels.get(id).map_or(0, |c| c.count);
-                    if got != *n && stats.message_count == s.message_count {
-                        disagreements.push(format!(
-                            "channel {id}: summary counts {n} messages, {got} read"
-                        ));
-                    }
-                }
-                if !disagreements.is_empty() {
-                    has_summary_section = false;
-                    s.notes.extend(disagreements);
-                }
-            }
-            // Channels listed only in the summary (e.g. their records were in a lost chunk).
-            for (id, ch) in &sum.channels {
-                s.channels.entry(*id).or_insert_with(|| {
-                    if let Some(sc) = &ch.schema {
-                        s.schemas
-                            .entry(sc.id)
-                            .or_insert((sc.name.clone(), sc.encoding.clone()));
-                    }
-                    ScanChannel {
-                        topic: ch.topic.clone(),
-                        schema_id: ch.schema.as_ref().map_or(0, |sc| sc.id),
-                        message_encoding: ch.message_encoding.clone(),
-                        count: 0,
-                    }
-                });
-            }
-        }
-        Ok(None) => {
-            if scan_ok {
-                s.notes.push("the file has no summary section".into());
-            }
-        }
-        Err(e) => {
-            // A truncated file has no footer; say so only when the scan found nothing else.
-            if scan_ok
-                || !matches!(
-                    e,
-                    mcap::McapError::BadMagic | mcap::McapError::UnexpectedEof
-                )
-            {
-                s.notes
-                    .push(format!("the summary section or footer is unreadable: {e}"));
-            }
-        }
-    }
+    let has_summary_section = check_summary(buf, &mut s);
 
     let channels = s
         .channels
@@ -516,6 +464,69 @@ fn summarize_bytes(path: &Path, buf: &[u8]) -> Summary {
     }
 }
 
+/// Compare the summary section (when the framing found it whole and its CRC matching) with
+/// what the scan read; add what disagrees to the notes. Returns whether a valid summary section
+/// was found and agreed. Channels listed only in the summary (their records were in a lost
+/// chunk) are added to the scan.
+fn check_summary(buf: &[u8], s: &mut Scan) -> bool {
+    let scan_ok = s.notes.is_empty();
+    if !s.summary_sound {
+        return false;
+    }
+    let sum = match mcap::Summary::read(buf) {
+        Ok(Some(sum)) => sum,
+        Ok(None) => {
+            if scan_ok {
+                s.notes.push("the file has no summary section".into());
+            }
+            return false;
+        }
+        Err(e) => {
+            s.notes
+                .push(format!("the summary section or footer is unreadable: {e}"));
+            return false;
+        }
+    };
+    let mut agrees = true;
+    if let Some(stats) = &sum.stats {
+        let mut disagreements = Vec::new();
+        if stats.message_count != s.message_count {
+            disagreements.push(format!(
+                "the summary section counts {} messages, {} could be read",
+                stats.message_count, s.message_count
+            ));
+        }
+        for (id, n) in &stats.channel_message_counts {
+            let got = s.channels.get(id).map_or(0, |c| c.count);
+            if got != *n && stats.message_count == s.message_count {
+                disagreements.push(format!(
+                    "channel {id}: summary counts {n} messages, {got} read"
+                ));
+            }
+        }
+        if !disagreements.is_empty() {
+            agrees = false;
+            s.notes.extend(disagreements);
+        }
+    }
+    for (id, ch) in &sum.channels {
+        s.channels.entry(*id).or_insert_with(|| {
+            if let Some(sc) = &ch.schema {
+                s.schemas
+                    .entry(sc.id)
+                    .or_insert((sc.name.clone(), sc.encoding.clone()));
+            }
+            ScanChannel {
+                topic: ch.topic.clone(),
+                schema_id: ch.schema.as_ref().map_or(0, |sc| sc.id),
+                message_encoding: ch.message_encoding.clone(),
+                count: 0,
+            }
+        });
+    }
+    agrees
+}
+
 /// Extracts the JSON messages of `topic`, in file order, with their times. A damaged file
 /// gives the recovered messages with `recovered: true` and notes.
 pub fn extract(path: impl AsRef<Path>, topic: &str) -> Result<Series, InspectError> {
@@ -525,7 +536,7 @@ pub fn extract(path: impl AsRef<Path>, topic: &str) -> Result<Series, InspectErr
         let mut points = Vec::new();
         let mut encoding: Option<String> = None;
         let mut bad = 0u64;
-        let s = scan(&buf, &mut |m| {
+        let mut s = scan(&buf, &mut |m| {
             if m.topic != topic {
                 return;
             }
@@ -542,7 +553,21 @@ pub fn extract(path: impl AsRef<Path>, topic: &str) -> Result<Series, InspectErr
                 Err(_) => bad += 1,
             }
         });
+        check_summary(&buf, &mut s);
         let channel = s.channels.values().find(|c| c.topic == topic);
+        if channel.is_none() && !s.notes.is_empty() {
+            // A damaged file: the channel may be in the part that was lost.
+            let mut notes = s.notes;
+            notes.push(format!(
+                "no channel `{topic}` in what could be read (it may be in the damaged part)"
+            ));
+            return Ok(Series {
+                topic: topic.to_string(),
+                points,
+                recovered: true,
+                notes,
+            });
+        }
         let Some(channel) = channel else {
             let mut available: Vec<String> = s.channels.values().map(|c| c.topic.clone()).collect();
             available.sort();
@@ -588,43 +613,67 @@ fn csv_field(v: &Value) -> String {
     }
 }
 
+/// The state columns that come right after `t` when a channel has them.
+const STATE_COLUMNS: [&str; 9] = [
+    "omega1", "omega2", "omega3", "alpha1", "alpha2", "alpha3", "beta1", "beta2", "beta3",
+];
+
 impl Series {
-    /// Column names of [`to_csv`](Self::to_csv): `log_time` then the flattened fields in
-    /// order of first appearance.
+    /// Column names of [`to_csv`](Self::to_csv): `t`, then `omega1 … beta3` when the messages
+    /// have them, then the other flattened fields in order of first appearance, then
+    /// `log_time`.
     pub fn columns(&self) -> Vec<String> {
-        let mut cols: Vec<String> = Vec::new();
+        let mut seen: Vec<String> = Vec::new();
         for p in &self.points {
             for (k, _) in flatten(&p.value) {
                 let k = if k.is_empty() { "value".to_string() } else { k };
-                if !cols.contains(&k) {
-                    cols.push(k);
+                if !seen.contains(&k) {
+                    seen.push(k);
                 }
             }
         }
+        let mut cols = vec!["t".to_string()];
+        cols.extend(
+            STATE_COLUMNS
+                .iter()
+                .filter(|c| seen.iter().any(|s| s == *c))
+                .map(|c| c.to_string()),
+        );
+        for k in seen {
+            if !cols.contains(&k) && k != "log_time" {
+                cols.push(k);
+            }
+        }
+        cols.push("log_time".to_string());
         cols
     }
 
-    /// CSV: a header line `log_time,<fields…>` then one line per message; `log_time` is in
-    /// seconds (exact decimal of the ns log time), nested fields are flattened (`omega.0`, `beta.2`), missing or null values
-    /// are empty.
+    /// CSV: a header line ([`columns`](Self::columns)) then one line per message. `t` is the
+    /// message's own `t` when it has one, else the log time in seconds; `log_time` is the exact
+    /// decimal of the ns log time; nested fields are flattened ([`flatten`]: `omega1`,
+    /// `quaternion_w`); missing or null values are empty.
     pub fn to_csv(&self) -> String {
         let cols = self.columns();
-        let mut out = String::from("log_time");
-        for c in &cols {
-            out.push(',');
-            out.push_str(&csv_field(&Value::String(c.clone())));
-        }
+        let mut out = cols
+            .iter()
+            .map(|c| csv_field(&Value::String(c.clone())))
+            .collect::<Vec<_>>()
+            .join(",");
         out.push('\n');
         for p in &self.points {
-            let flat: BTreeMap<String, Value> = flatten(&p.value)
+            let mut flat: BTreeMap<String, Value> = flatten(&p.value)
                 .into_iter()
                 .map(|(k, v)| (if k.is_empty() { "value".into() } else { k }, v))
                 .collect();
-            out.push_str(&format_ns(p.log_time_ns));
-            for c in &cols {
-                out.push(',');
-                out.push_str(&flat.get(c).map(csv_field).unwrap_or_default());
-            }
+            let log_time = format_ns(p.log_time_ns);
+            flat.entry("t".into())
+                .or_insert_with(|| Value::String(log_time.clone()));
+            flat.insert("log_time".into(), Value::String(log_time));
+            let row: Vec<String> = cols
+                .iter()
+                .map(|c| flat.get(c).map(csv_field).unwrap_or_default())
+                .collect();
+            out.push_str(&row.join(","));
             out.push('\n');
         }
         out

@@ -12,6 +12,7 @@
 //! `log_time = publish_time = round(t · 10⁹)` nanoseconds (see [`time_to_ns`]).
 
 pub mod demo;
+mod framing;
 pub mod inspect;
 pub mod quat;
 pub mod schemas;

@@ -1,9 +1,9 @@
 //! Writing one comparison to an MCAP file.
 
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+
+use rsts_io::AtomicFile;
 
 use mcap::records::MessageHeader;
 use serde::{Deserialize, Serialize};
@@ -33,6 +33,10 @@ pub enum LogError {
     TimeNotMonotonic { t: f64, previous: f64 },
     #[error("the log was already finished")]
     Finished,
+    /// A write failed before; the first error is kept (the OS error, e.g. "No space left on
+    /// device"), not the writer's later "attempted another write after a write method failed".
+    #[error("{0}")]
+    Failed(String),
 }
 
 /// Metadata of one comparison, written once as an MCAP Metadata record (name `rsts`) and as
@@ -303,13 +307,16 @@ pub struct LogStats {
 
 /// An MCAP log of one comparison. See `docs/mcap.md` for the channel layout.
 ///
-/// Dropping the log without [`finish`](Self::finish) finishes it too (errors ignored), so
-/// a run stopped early — e.g. on Ctrl-C caught by the CLI — still leaves a complete,
-/// indexed file. A process killed outright leaves a file without summary; all chunks
-/// written before (see [`flush`](Self::flush)) remain readable by
-/// [`crate::inspect::summarize`].
+/// The file is written whole or not at all ([`rsts_io::AtomicFile`]): everything goes to a
+/// temporary beside the target, and [`finish`](Self::finish) renames it into place. Until then
+/// an existing file at the path is untouched; dropping the log without `finish` (a failed run)
+/// removes the temporary, and so does [`rsts_io::remove_temporaries`] (a second Ctrl-C). A run
+/// stopped early on purpose (the first Ctrl-C caught by the CLI) calls `finish` and so leaves a
+/// complete, indexed file of what it logged.
 pub struct TrajectoryLog {
-    writer: Option<mcap::Writer<BufWriter<File>>>,
+    writer: Option<mcap::Writer<AtomicFile>>,
+    /// The first write error, repeated by every later call.
+    failed: Option<String>,
     path: PathBuf,
     ch: Channels,
     sequence: BTreeMap<u16, u32>,
@@ -318,19 +325,21 @@ pub struct TrajectoryLog {
 }
 
 impl TrajectoryLog {
-    /// Creates (truncates) `path` with the default [`LogOptions`] and writes the metadata.
+    /// Starts writing `path` with the default [`LogOptions`] and writes the metadata (the file
+    /// appears at `path` when [`finish`](Self::finish)ed).
     pub fn create(path: impl AsRef<Path>, metadata: &Metadata) -> Result<Self, LogError> {
         Self::create_with_options(path, metadata, &LogOptions::default())
     }
 
-    /// Creates (truncates) `path` and writes the schemas, channels and metadata.
+    /// Starts writing `path` (a temporary beside it until [`finish`](Self::finish)) and writes
+    /// the schemas, channels and metadata.
     pub fn create_with_options(
         path: impl AsRef<Path>,
         metadata: &Metadata,
         options: &LogOptions,
     ) -> Result<Self, LogError> {
         let path = path.as_ref().to_path_buf();
-        let file = File::create(&path).map_err(|source| LogError::Create {
+        let file = AtomicFile::create(&path).map_err(|source| LogError::Create {
             path: path.clone(),
             source,
         })?;
@@ -341,7 +350,7 @@ impl TrajectoryLog {
             .chunk_size(Some(options.chunk_size.max(1)))
             .profile("")
             .library(format!("rsts-mcap/{}", env!("CARGO_PKG_VERSION")));
-        let mut w = opts.create(BufWriter::new(file))?;
+        let mut w = opts.create(file)?;
 
         let tf_s = w.add_schema(
             schemas::FRAME_TRANSFORM_NAME,
@@ -418,6 +427,7 @@ impl TrajectoryLog {
 
         let mut log = TrajectoryLog {
             writer: Some(w),
+            failed: None,
             path,
             ch: Channels {
                 tf,
@@ -444,12 +454,28 @@ impl TrajectoryLog {
         self.stats
     }
 
+    /// The first error again, if a write failed before.
+    fn check_failed(&self) -> Result<(), LogError> {
+        match &self.failed {
+            Some(first) => Err(LogError::Failed(first.clone())),
+            None => Ok(()),
+        }
+    }
+
+    /// Remember the first error of a write.
+    fn fail(&mut self, e: LogError) -> LogError {
+        let text = rsts_io::error_text(&e);
+        self.failed.get_or_insert(text.clone());
+        LogError::Failed(text)
+    }
+
     fn write_json(&mut self, channel: u16, ns: u64, value: &Value) -> Result<(), LogError> {
+        self.check_failed()?;
         let data = serde_json::to_vec(value)?;
         let w = self.writer.as_mut().ok_or(LogError::Finished)?;
         let seq = self.sequence.entry(channel).or_insert(0);
         *seq += 1;
-        w.write_to_known_channel(
+        let written = w.write_to_known_channel(
             &MessageHeader {
                 channel_id: channel,
                 sequence: *seq,
@@ -457,7 +483,10 @@ impl TrajectoryLog {
                 publish_time: ns,
             },
             &data,
-        )?;
+        );
+        if let Err(e) = written {
+            return Err(self.fail(e.into()));
+        }
         self.stats.messages += 1;
         self.stats.payload_bytes += data.len() as u64;
         Ok(())
@@ -536,31 +565,20 @@ impl TrajectoryLog {
     /// Ends the open chunk and flushes it to the OS, so everything logged so far survives
     /// a killed process. Costs a little compression; call it e.g. every few seconds.
     pub fn flush(&mut self) -> Result<(), LogError> {
+        self.check_failed()?;
         let w = self.writer.as_mut().ok_or(LogError::Finished)?;
-        w.flush()?;
+        if let Err(e) = w.flush() {
+            return Err(self.fail(e.into()));
+        }
         Ok(())
     }
 
-    /// Writes the summary section and footer and closes the file.
+    /// Writes the summary section and footer and renames the file into place.
     pub fn finish(mut self) -> Result<LogStats, LogError> {
-        self.finish_inner()?;
-        Ok(self.stats)
-    }
-
-    fn finish_inner(&mut self) -> Result<(), LogError> {
+        self.check_failed()?;
         let mut w = self.writer.take().ok_or(LogError::Finished)?;
         w.finish()?;
-        let mut inner = w.into_inner();
-        inner.flush()?;
-        inner.get_ref().sync_all()?;
-        Ok(())
-    }
-}
-
-impl Drop for TrajectoryLog {
-    fn drop(&mut self) {
-        if self.writer.is_some() {
-            let _ = self.finish_inner();
-        }
+        w.into_inner().commit()?;
+        Ok(self.stats)
     }
 }

@@ -214,11 +214,30 @@ fn garbage_input() {
     assert_no_panic();
 }
 
+/// The temporary a log is written to until it is finished (`.NAME.tmp-PID-N` beside `path`):
+/// all a killed process leaves (the target itself is untouched).
+fn temporary_of(path: &std::path::Path) -> std::path::PathBuf {
+    let name = path.file_name().unwrap().to_string_lossy().into_owned();
+    let prefix = format!(".{name}.tmp-");
+    std::fs::read_dir(path.parent().unwrap())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with(&prefix)
+        })
+        .expect("the temporary of an open log")
+}
+
 #[test]
 fn flushed_log_of_a_killed_process_is_readable() {
     watch_panics();
-    // Simulate a process killed right after a flush: copy the file while the writer is open.
+    // Simulate a process killed right after a flush: copy the temporary while the writer is
+    // open (the target does not exist until the log is finished).
     let path = tmp("live.mcap");
+    let _ = std::fs::remove_file(&path);
     let n = 100;
     let mut log =
         TrajectoryLog::create(&path, &demo::metadata(&Precession::EXAMPLE, 10.0, n)).unwrap();
@@ -227,7 +246,11 @@ fn flushed_log_of_a_killed_process_is_readable() {
         log.log_sample(s).unwrap();
     }
     log.flush().unwrap();
-    let snapshot = std::fs::read(&path).unwrap();
+    assert!(
+        !path.exists(),
+        "the target appears before the log is finished"
+    );
+    let snapshot = std::fs::read(temporary_of(&path)).unwrap();
     for s in &all[60..] {
         log.log_sample(s).unwrap();
     }
@@ -258,7 +281,8 @@ fn process_killed_mid_run_leaves_a_readable_prefix() {
         log.log_sample(s).unwrap();
     }
     std::mem::forget(log);
-    let bytes = std::fs::read(&path).unwrap();
+    let bytes = std::fs::read(temporary_of(&path)).unwrap();
+    std::fs::remove_file(temporary_of(&path)).unwrap();
     let s = check_damaged("killed-mid-run-copy.mcap", &bytes, 1 + 9 * n as u64).unwrap();
     assert!(s.recovered);
     assert!(!s.has_summary_section);

@@ -421,9 +421,17 @@ fn summarize_and_extract_a_complete_file() {
     let csv = series.to_csv();
     let mut rows = csv.lines();
     let header: Vec<&str> = rows.next().unwrap().split(',').collect();
-    assert_eq!(header[0], "log_time");
-    let col = header.iter().position(|h| *h == "omega.0").unwrap();
-    let qcol = header.iter().position(|h| *h == "beta.2").unwrap();
+    // The CSV contract (docs/output.md): t, omega1 … beta3, the rest, log_time.
+    assert_eq!(
+        &header[..10],
+        &[
+            "t", "omega1", "omega2", "omega3", "alpha1", "alpha2", "alpha3", "beta1", "beta2",
+            "beta3"
+        ]
+    );
+    assert_eq!(header.last(), Some(&"log_time"));
+    let col = header.iter().position(|h| *h == "omega1").unwrap();
+    let qcol = header.iter().position(|h| *h == "beta3").unwrap();
     for (row, smp) in rows.zip(&samples) {
         let f: Vec<&str> = row.split(',').collect();
         assert_eq!(f.len(), header.len());
@@ -446,17 +454,35 @@ fn summarize_and_extract_a_complete_file() {
 }
 
 #[test]
-fn drop_without_finish_leaves_a_complete_file() {
+fn drop_without_finish_leaves_the_previous_file_and_finish_replaces_it() {
     let n = 50;
-    let path = tmp("dropped.mcap");
+    let dir = tmp("dropped");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("dropped.mcap");
+    std::fs::write(&path, b"previous").unwrap();
     {
         let mut log =
             TrajectoryLog::create(&path, &demo::metadata(&Precession::EXAMPLE, T_END, n)).unwrap();
         for s in samples(n).iter().take(20) {
             log.log_sample(s).unwrap();
         }
-        // Dropped here, as when the CLI's loop stops on Ctrl-C and unwinds.
+        assert_eq!(std::fs::read(&path).unwrap(), b"previous", "touched early");
+        // Dropped here, as when a run fails: the log is discarded whole.
     }
+    assert_eq!(std::fs::read(&path).unwrap(), b"previous");
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 1, "a temporary was left: {names:?}");
+    // Finished (also what the CLI does on the first Ctrl-C): a complete file replaces it.
+    let mut log =
+        TrajectoryLog::create(&path, &demo::metadata(&Precession::EXAMPLE, T_END, n)).unwrap();
+    for s in samples(n).iter().take(20) {
+        log.log_sample(s).unwrap();
+    }
+    log.finish().unwrap();
     let s = inspect::summarize(&path).unwrap();
     assert!(!s.recovered, "{:?}", s.notes);
     assert!(s.has_summary_section);

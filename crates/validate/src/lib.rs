@@ -59,6 +59,8 @@ pub fn validate(
     let suite = Suite::load_with(&opts.suite, exec)?;
     // Read the baseline first: a missing one is an error before any work.
     let baseline = opts.baseline.as_deref().map(Report::read).transpose()?;
+    // And make sure the report can be written before the suite runs.
+    let out = report_dir(&opts.report_dir)?;
     let runs = match opts.shard {
         Some(sh) => sh.select(&suite.runs),
         None => suite.runs.clone(),
@@ -76,7 +78,7 @@ pub fn validate(
     if let Some(b) = &baseline {
         report.compare_with(b);
     }
-    write_all(&report, &opts.report_dir)?;
+    write_all(&report, out)?;
     Ok(report)
 }
 
@@ -88,6 +90,7 @@ pub fn merge_dirs(
     baseline: Option<&Path>,
 ) -> Result<Report, ValidateError> {
     let baseline = baseline.map(Report::read).transpose()?;
+    let dir = report_dir(out)?;
     let parts = dirs
         .iter()
         .map(|d| Report::read(d))
@@ -96,13 +99,35 @@ pub fn merge_dirs(
     if let Some(b) = &baseline {
         report.compare_with(b);
     }
-    write_all(&report, out)?;
+    write_all(&report, dir)?;
     Ok(report)
 }
 
-fn write_all(report: &Report, dir: &Path) -> Result<(), ValidateError> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| ValidateError::Io(format!("cannot create {}: {e}", dir.display())))?;
-    let plots = plots::write_plots(report, dir)?;
-    report.write(dir, &plots)
+/// Start the report directory `dir` (written whole, see [`write_all`]): refused at once when it
+/// cannot be written, or when it exists and holds something other than a report (replacing the
+/// directory would delete those files).
+fn report_dir(dir: &Path) -> Result<rsts_io::AtomicDir, ValidateError> {
+    let io = |e: std::io::Error| ValidateError::Io(format!("--report {}: {e}", dir.display()));
+    if dir.is_dir() {
+        let mut entries = std::fs::read_dir(dir).map_err(io)?;
+        if entries.next().is_some() && !dir.join("report.json").is_file() {
+            return Err(ValidateError::Usage(format!(
+                "--report {}: the directory exists and is not a validation report (no report.json); \
+                 it is replaced whole when the report is written, so give a new or empty directory",
+                dir.display()
+            )));
+        }
+    }
+    rsts_io::check_writable_dir(dir).map_err(io)?;
+    rsts_io::AtomicDir::create(dir).map_err(io)
+}
+
+/// Write report.json, report.md and the plots into the staging directory of `dir` and move it
+/// into place: a failed or interrupted run leaves the previous report (or none), never a part.
+fn write_all(report: &Report, dir: rsts_io::AtomicDir) -> Result<(), ValidateError> {
+    let staging = dir.staging().to_path_buf();
+    let plots = plots::write_plots(report, &staging)?;
+    report.write(&staging, &plots)?;
+    dir.commit()
+        .map_err(|e| ValidateError::Io(format!("--report: {e}")))
 }

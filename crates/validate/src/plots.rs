@@ -18,8 +18,12 @@ pub const PASS_COLOUR: &str = "#1a9850";
 pub const FAIL_COLOUR: &str = "#d73027";
 
 /// A file name from a case name and torus.
+/// A file-name-safe form of a case name, at most 80 characters: a longer name keeps its first
+/// 63 characters and a 16-hex-digit hash of the whole name (so any case name gives a file that
+/// the file system accepts, and distinct names stay distinct).
 fn slug(s: &str) -> String {
-    s.chars()
+    let safe: String = s
+        .chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || "-_.".contains(c) {
                 c
@@ -27,7 +31,15 @@ fn slug(s: &str) -> String {
                 '_'
             }
         })
-        .collect()
+        .collect();
+    if safe.len() <= 80 {
+        return safe;
+    }
+    // FNV-1a 64: stable across runs and platforms.
+    let hash = s.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{}-{hash:016x}", &safe[..63])
 }
 
 fn method_label(r: &RunResult) -> String {

@@ -16,12 +16,12 @@ use serde::Serialize;
 
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances, MAX_MP_DIGITS};
 use rsts_harness::{
-    measure_against, measure_integrator, reference_bits, reference_bits_for, BenchRow, Case,
-    Integrator, Reference,
+    measure_against, measure_integrator, preflight, reference_bits, reference_bits_for, BenchRow,
+    Case, Integrator, Reference,
 };
 use rsts_plots::{Chart, Scale, Series, Style};
 
-use crate::args::{count, finite_f64, CaseArgs, MethodParser, MAX_SAMPLES};
+use crate::args::{case_error, count, finite_f64, CaseArgs, MethodParser, MAX_SAMPLES};
 use crate::external::{exec_integrator, TimeoutArgs};
 use crate::output::{self, Cell, Format, Tabular};
 
@@ -82,7 +82,7 @@ pub struct Args {
     /// default: ceil(-log10(smallest tolerance)) + 10)
     #[arg(long, value_name = "D")]
     pub digits: Option<u32>,
-    /// Runs per method and tolerance; the time reported is their median
+    /// Runs per method and tolerance (1 to 1000); the time reported is their median
     #[arg(long, value_name = "K", default_value = "3", value_parser = count)]
     pub repeats: usize,
     /// Write the work-precision diagram (max error against seconds, log-log) to this SVG file
@@ -124,20 +124,32 @@ pub fn default_mp_digits(tol: f64) -> u32 {
     d.clamp(10, MAX_MP_DIGITS)
 }
 
+/// Most samples of a benchmark: the closed-form reference keeps every sample in high precision
+/// (about 1 kB each).
+pub const MAX_BENCH_SAMPLES: usize = 1_000_000;
+/// Most repeats of each run.
+pub const MAX_REPEATS: usize = 1000;
+/// Most steps of a whole benchmark (every method, tolerance and repeat), as estimated up front.
+pub const MAX_TOTAL_STEPS: f64 = 2e9;
+
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    if args.samples > MAX_SAMPLES {
+    if args.samples > MAX_BENCH_SAMPLES {
         bail!(
-            "--samples: at most {MAX_SAMPLES} samples are supported, got {}",
+            "--samples: at most {MAX_BENCH_SAMPLES} samples are supported by bench (the reference keeps them all in high precision), got {}",
             args.samples
         );
     }
+    const { assert!(MAX_BENCH_SAMPLES <= MAX_SAMPLES) };
     let case = args.case();
-    case.validate().map_err(|e| anyhow!("{e}"))?;
+    case.validate().map_err(case_error)?;
     if args.t_end <= 0.0 || args.samples < 2 {
         bail!("--t-end/--samples: a benchmark needs T > 0 and at least 2 samples");
     }
-    if args.repeats == 0 {
-        bail!("--repeats: need at least 1");
+    if !(1..=MAX_REPEATS).contains(&args.repeats) {
+        bail!(
+            "--repeats: need 1 to {MAX_REPEATS} repeats (the time is their median), got {}",
+            rsts_dynamics::short(args.repeats as f64)
+        );
     }
     if args.tolerances.is_empty() {
         bail!("--tolerances: give at least one tolerance");
@@ -168,6 +180,11 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         .iter()
         .copied()
         .fold(f64::INFINITY, f64::min);
+    if let Some(d) = args.digits {
+        if !(10..=MAX_MP_DIGITS).contains(&d) {
+            bail!("--digits: must be between 10 and {MAX_MP_DIGITS}, got {d}");
+        }
+    }
     let mp_digits = match args.digits {
         Some(d) => d,
         None => default_mp_digits(smallest),
@@ -210,6 +227,24 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         bail!(
             "--tolerances: no method can reach any of the tolerances given (all below round-off)"
         );
+    }
+    // Every job is checked (the point, the step budget) before any runs, the whole bench too.
+    let mut total_steps = 0.0;
+    for config in &jobs {
+        preflight(&case, config).map_err(case_error)?;
+        total_steps += estimate_steps(&case, config)? * args.repeats as f64;
+    }
+    if total_steps > MAX_TOTAL_STEPS {
+        bail!(
+            "--repeats/--tolerances/--t-end: the benchmark needs at least about {} steps in all ({} runs of {} repeats), more than the limit of {}; ask for fewer",
+            rsts_dynamics::short(total_steps),
+            jobs.len(),
+            args.repeats,
+            rsts_dynamics::short(MAX_TOTAL_STEPS)
+        );
+    }
+    if let Some(path) = &args.svg {
+        rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
     }
 
     let bar = ProgressBar::with_draw_target(
@@ -268,14 +303,21 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     bar.finish_and_clear();
 
+    for l in &rows {
+        let r = &l.row;
+        if !(r.max_error.is_finite() && r.integration_seconds.is_finite()) {
+            bail!(
+                "{} at tolerance {}: the maximum error is not finite (the integrated motion left f64's range)",
+                l.label,
+                rsts_dynamics::short(r.tolerance)
+            );
+        }
+    }
     if let Some(path) = &args.svg {
         let svg = render(&case, args.repeats, &rows)?;
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)
-                .with_context(|| format!("--svg: cannot create {}", dir.display()))?;
-        }
         rsts_io::write_atomic(path, svg.as_bytes())
             .with_context(|| format!("--svg {}", path.display()))?;
+        eprintln!("work-precision diagram: {}", path.display());
     }
     let plain: Vec<BenchRow> = rows.iter().map(|l| l.row.clone()).collect();
     match args.format {
@@ -288,20 +330,46 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 rows: &plain,
             },
         )?,
-        Format::Csv => output::write_csv(out, &table(&rows, true))?,
+        Format::Csv => output::write_records_csv(out, &plain)?,
         Format::Table => {
             writeln!(
                 out,
                 "a = {}, b = {}, m = {}, h = {}, torus {}, T = {}, {} samples; time: median of {} runs",
                 case.a, case.b, case.m, case.h, case.torus, case.t_end, case.samples, args.repeats
             )?;
-            output::write_table(out, &table(&rows, false))?;
-            if let Some(path) = &args.svg {
-                writeln!(out, "\nwork-precision diagram: {}", path.display())?;
-            }
+            output::write_table(out, &table(&rows))?;
         }
     }
     Ok(())
+}
+
+/// The optimistic step estimate of one run of `config` on `case` (its initial state from the
+/// closed form in f64).
+fn estimate_steps(case: &Case, config: &MethodConfig) -> anyhow::Result<f64> {
+    use rsts_dynamics::integrators::{OutputGrid, Problem};
+    let motion = rsts_closed_form::ExplicitMotion::<f64>::new(
+        case.a,
+        case.b,
+        case.m,
+        case.h,
+        rsts_closed_form::TorusChoice {
+            torus: case.torus,
+            phase1: case.phase1,
+            phase2: case.phase2,
+        },
+    )
+    .map_err(case_error)?;
+    let s = motion.at(&0.0);
+    let problem = Problem {
+        fields: rsts_dynamics::Fields::new(case.a, case.b)?,
+        initial: rsts_dynamics::State {
+            omega: [s.omega[0], s.omega[1], s.omega[2]],
+            alpha: [s.alpha[0], s.alpha[1], s.alpha[2]],
+            beta: [s.beta[0], s.beta[1], s.beta[2]],
+        },
+    };
+    let grid = OutputGrid::new(case.t_end, case.samples)?;
+    Ok(config.estimate_steps(&problem, &grid))
 }
 
 /// taylor-mp carries its digits in tables and legends.
@@ -312,8 +380,8 @@ fn label_of(method: MethodName, mp_digits: u32) -> String {
     }
 }
 
-/// The rows as a table: rounded for reading, or at full precision (`exact`, for CSV).
-fn table(rows: &[Labelled], exact: bool) -> Tabular {
+/// The rows as a table, rounded for reading (CSV and JSON carry the full precision).
+fn table(rows: &[Labelled]) -> Tabular {
     let mut t = Tabular::new([
         "method",
         "tolerance",
@@ -324,22 +392,11 @@ fn table(rows: &[Labelled], exact: bool) -> Tabular {
     ]);
     for l in rows {
         let r = &l.row;
-        let num = |x: f64, digits: usize| {
-            if exact {
-                Cell::Num(x)
-            } else {
-                Cell::Text(format!("{x:.digits$e}"))
-            }
-        };
         t.push(vec![
             Cell::Text(l.label.clone()),
-            if exact {
-                Cell::Num(r.tolerance)
-            } else {
-                Cell::Text(format!("{:e}", r.tolerance))
-            },
-            num(r.max_error, 2),
-            num(r.integration_seconds, 3),
+            Cell::Text(format!("{:e}", r.tolerance)),
+            Cell::Text(format!("{:.2e}", r.max_error)),
+            Cell::Text(format!("{:.3e}", r.integration_seconds)),
             Cell::Int(r.steps),
             Cell::Int(r.rhs_evals),
         ]);

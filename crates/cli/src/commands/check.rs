@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 
-use anyhow::{anyhow, bail};
+use anyhow::{anyhow, bail, Context};
 use clap::Args as ClapArgs;
 use rug::Float;
 use serde::Serialize;
@@ -15,8 +15,10 @@ use rsts_closed_form::manifold::{identify, IdentifyError};
 use rsts_dynamics::scalar::bits_for_digits;
 use rsts_harness::{Analysis, Case, Report, RunInfo, REFERENCE_GUARD_BITS};
 
-use crate::args::{finite_f64, FieldArgs};
-use crate::commands::compare::{open_log, stop_on_ctrl_c, write_table, CliObserver, Interrupted};
+use crate::args::{case_error, finite_f64, FieldArgs};
+use crate::commands::compare::{
+    check_finite_report, open_log, stop_on_ctrl_c, write_table, CliObserver, Interrupted,
+};
 use crate::commands::validate::Failed;
 use crate::output::{self, Format};
 
@@ -113,6 +115,24 @@ struct Document<'a> {
     mcap: Option<String>,
 }
 
+/// Largest trajectory file read (its values are kept at their precision while they are checked).
+pub const MAX_FILE_BYTES: u64 = 2 * 1024 * 1024 * 1024;
+
+/// Refuse a file too large to read, naming it (before any memory is spent on it).
+fn check_file_size(path: &std::path::Path) -> anyhow::Result<()> {
+    if let Ok(meta) = std::fs::metadata(path) {
+        if meta.is_file() && meta.len() > MAX_FILE_BYTES {
+            bail!(
+                "{}: {} bytes, more than the {} bytes (2 GiB) a trajectory file may have; check it in parts",
+                path.display(),
+                meta.len(),
+                MAX_FILE_BYTES
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Relative distance from N above which a first row is refused for identification.
 pub const ON_N_TOLERANCE: f64 = 1e-8;
 
@@ -183,16 +203,42 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             bail!("--max-error: must be non-negative, got {e}");
         }
     }
+    if let Some(d) = args.digits {
+        if !(1..=10_000).contains(&d) {
+            bail!("--digits: must be between 1 and 10000, got {d}");
+        }
+    }
+    let (a, b) = (args.fields.a, args.fields.b);
+    rsts_dynamics::Fields::new(a, b).map_err(|e| anyhow!("--a/--b: {e}"))?;
+    if let (Some(m), Some(h)) = (args.m, args.h) {
+        // The motion given is checked before the file is read.
+        let case = Case {
+            a,
+            b,
+            m,
+            h,
+            torus: args.torus.unwrap_or(0),
+            phase1: args.phase1.unwrap_or(0.0),
+            phase2: args.phase2.unwrap_or(0.0),
+            t_end: 0.0,
+            samples: 1,
+        };
+        case.validate().map_err(case_error)?;
+        case.reference_motion(64).map_err(case_error)?;
+    }
+    if let Some(path) = &args.mcap {
+        rsts_io::check_writable(path).with_context(|| format!("--mcap {}", path.display()))?;
+    }
+    check_file_size(&args.file)?;
     let raw = rsts_external::read_trajectory(&args.file).map_err(|e| anyhow!("{e}"))?;
     let data_digits = match args.digits {
-        Some(d) if (1..=10_000).contains(&d) => d,
-        Some(d) => bail!("--digits: must be between 1 and 10000, got {d}"),
+        Some(d) => d,
         None if raw.is_high_precision() => raw.digits() as u32,
         None => 15,
     };
     let bits = bits_for_digits(data_digits.max(30)) + REFERENCE_GUARD_BITS;
     let samples = raw.to_samples(bits);
-    let (a, b) = (args.fields.a, args.fields.b);
+    drop(raw);
     let (case, distance) = match (args.m, args.h) {
         (Some(m), Some(h)) => (
             CheckedCase {
@@ -220,7 +266,11 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         torus: case.torus,
         phase1: case.phase1,
         phase2: case.phase2,
-        t_end: 0.0,
+        // The motion is built for the largest |t| of the file (its phase clock's bits).
+        t_end: samples
+            .times
+            .iter()
+            .fold(0.0, |m: f64, t| m.max(t.to_f64().abs())),
         samples: 1,
     };
     let name = args
@@ -234,8 +284,16 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         atol: None,
         digits: data_digits,
     };
-    let mut analysis =
-        Analysis::for_case(&harness_case, bits, info).map_err(|e| anyhow!("the motion: {e}"))?;
+    let mut analysis = Analysis::for_case(&harness_case, bits, info).map_err(|e| {
+        if case.identified {
+            anyhow!(
+                "the motion identified from the first row of {}: {e}",
+                args.file.display()
+            )
+        } else {
+            case_error(e)
+        }
+    })?;
     let log = match &args.mcap {
         None => None,
         Some(path) => {
@@ -263,24 +321,29 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             }
         }
     }
+    if let Err(e) = result {
+        // A failed check discards its log: the temporary is removed, a previous file stays.
+        observer.bar.finish_and_clear();
+        drop(observer);
+        return Err(e);
+    }
     let log_stats = observer.finish()?;
-    result?;
     let report = analysis.finish();
+    check_finite_report(&report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     let start_state_error = start_error.unwrap_or(f64::NAN);
+    let doc = Document {
+        file: args.file.display().to_string(),
+        case: &case,
+        start_state_error,
+        start_distance_from_n: distance,
+        report: &report,
+        mcap: mcap.clone(),
+    };
     match args.format {
-        Format::Json => output::write_json(
-            out,
-            &Document {
-                file: args.file.display().to_string(),
-                case: &case,
-                start_state_error,
-                start_distance_from_n: distance,
-                report: &report,
-                mcap: mcap.clone(),
-            },
-        )?,
-        Format::Table | Format::Csv => {
+        Format::Json => output::write_json(out, &doc)?,
+        Format::Csv => output::write_records_csv(out, &[&doc])?,
+        Format::Table => {
             output::write_key_values(
                 out,
                 &[
@@ -312,11 +375,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         }
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {
-        writeln!(
-            out,
-            "\nMCAP log: {path} ({} samples, {} messages).",
+        eprintln!(
+            "MCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `target/release/rsts inspect {path}`.",
             stats.samples, stats.messages
-        )?;
+        );
     }
     if !report.complete {
         out.flush()?;

@@ -10,7 +10,7 @@ use clap::Args as ClapArgs;
 
 use rsts_closed_form::diagram::{describe_point, diagram_svg, DiagramOptions};
 
-use crate::args::{finite_f64, FieldArgs};
+use crate::args::{case_error, finite_f64, FieldArgs};
 use crate::output::{self, Format};
 
 /// Shown at the end of `rsts diagram --help`.
@@ -28,8 +28,8 @@ Examples:
 pub struct Args {
     #[command(flatten)]
     pub fields: FieldArgs,
-    /// Write the picture of the (m, h) plane to this SVG file
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["m", "h"])]
+    /// Write the picture of the (m, h) plane to this SVG file (written whole or not at all)
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["m", "h", "format"])]
     pub svg: Option<PathBuf>,
     /// Describe the point (m, h) (needs --h)
     #[arg(long, value_name = "M", value_parser = finite_f64, allow_hyphen_values = true, requires = "h")]
@@ -43,9 +43,10 @@ pub struct Args {
     /// h-range of the picture, LO,HI
     #[arg(long, value_name = "LO,HI", value_parser = range, allow_hyphen_values = true)]
     pub h_range: Option<(f64, f64)>,
-    /// Output format of a point description
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    pub format: Format,
+    /// Output format of a point description (csv: one header line and one row, the JSON fields
+    /// flattened) [default: table]
+    #[arg(long, value_enum)]
+    pub format: Option<Format>,
 }
 
 /// `LO,HI` with LO < HI, both finite.
@@ -69,20 +70,18 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 h_range: args.h_range,
                 ..DiagramOptions::default()
             };
-            let svg = diagram_svg(args.fields.a, args.fields.b, &opts)?;
-            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir)
-                    .with_context(|| format!("--svg: cannot create {}", dir.display()))?;
-            }
-            std::fs::write(path, svg)
-                .with_context(|| format!("--svg: cannot write {}", path.display()))?;
-            writeln!(out, "wrote {}", path.display())?;
+            rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
+            let svg = diagram_svg(args.fields.a, args.fields.b, &opts).map_err(case_error)?;
+            rsts_io::write_atomic(path, svg.as_bytes())
+                .with_context(|| format!("--svg {}", path.display()))?;
+            eprintln!("wrote {}", path.display());
         }
         (None, Some(m), Some(h)) => {
-            let d = describe_point(args.fields.a, args.fields.b, m, h)?;
-            match args.format {
+            let d = describe_point(args.fields.a, args.fields.b, m, h).map_err(case_error)?;
+            match args.format.unwrap_or(Format::Table) {
                 Format::Json => output::write_json(out, &d)?,
-                Format::Table | Format::Csv => write!(out, "{d}")?,
+                Format::Csv => output::write_records_csv(out, &[&d])?,
+                Format::Table => write!(out, "{d}")?,
             }
         }
         _ => bail!("give either --svg FILE (the picture) or --m M --h H (one point)"),

@@ -11,11 +11,10 @@ use serde::Serialize;
 use rsts_closed_form::scalar::Scalar;
 use rsts_closed_form::{ExplicitMotion, TorusChoice};
 use rsts_dynamics::scalar::{bits_for_digits, F64_BITS};
-use rsts_dynamics::vec3::Vec3;
 use rsts_dynamics::Real;
 
 use crate::args::{count, finite_f64, ExactFieldArgs, MAX_SAMPLES};
-use crate::output::{self, Cell, Format, Tabular};
+use crate::output::{self, Cell, Format};
 
 /// Shown at the end of `rsts explicit --help`.
 pub const EXAMPLES: &str = "\
@@ -33,6 +32,8 @@ Tori are numbered from 0; the phases are the angles (psi1, psi2) on the torus at
 
 /// Largest number of digits accepted.
 pub const MAX_DIGITS: u32 = 100_000;
+/// Most memory the samples of one run may take (2 GiB).
+pub const MAX_SAMPLE_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
 
 /// Options of `rsts explicit`.
 #[derive(Debug, Clone, ClapArgs)]
@@ -83,30 +84,72 @@ pub struct Args {
     pub format: Format,
 }
 
-#[derive(Debug, Serialize)]
-struct Sample {
-    t: String,
-    omega: [String; 3],
-    alpha: [String; 3],
-    beta: [String; 3],
-    gamma: [String; 3],
-    #[serde(rename = "Omega")]
-    omega_fixed: [String; 3],
+/// A number of the JSON document: an f64 number when the run is in f64, a decimal string at
+/// `--digits` (more digits than an f64 number holds).
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+enum Number {
+    F64(f64),
+    Decimal(String),
+}
+
+impl Number {
+    fn cell(&self, table: bool) -> Cell {
+        match self {
+            Number::F64(x) => Cell::Num(*x),
+            Number::Decimal(s) if table => s.parse().map_or(Cell::Text(s.clone()), Cell::Num),
+            Number::Decimal(s) => Cell::Text(s.clone()),
+        }
+    }
 }
 
 #[derive(Debug, Serialize)]
-struct Document {
-    a: String,
-    b: String,
-    m: String,
-    h: String,
+struct Sample {
+    t: Number,
+    omega: [Number; 3],
+    alpha: [Number; 3],
+    beta: [Number; 3],
+    gamma: [Number; 3],
+    #[serde(rename = "Omega")]
+    omega_fixed: [Number; 3],
+}
+
+/// The samples, kept as 16 numbers each (t, ω, α, β, γ, Ω) and turned into [`Sample`]s one at a
+/// time while the JSON is written.
+struct Samples<'a, T> {
+    rows: &'a [[T; 16]],
+    num: &'a dyn Fn(&T) -> Number,
+}
+
+impl<T> Serialize for Samples<'_, T> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let f = self.num;
+        let v3 = |r: &[T; 16], k: usize| [f(&r[k]), f(&r[k + 1]), f(&r[k + 2])];
+        serializer.collect_seq(self.rows.iter().map(|r| Sample {
+            t: f(&r[0]),
+            omega: v3(r, 1),
+            alpha: v3(r, 4),
+            beta: v3(r, 7),
+            gamma: v3(r, 10),
+            omega_fixed: v3(r, 13),
+        }))
+    }
+}
+
+#[derive(Serialize)]
+#[serde(bound = "")]
+struct Document<'a, T> {
+    a: Number,
+    b: Number,
+    m: Number,
+    h: Number,
     camera: String,
     tori: usize,
     torus: usize,
     phase1: f64,
     phase2: f64,
     digits: u32,
-    samples: Vec<Sample>,
+    samples: Samples<'a, T>,
 }
 
 /// A decimal string shortened for the table header (`1e0` → `1`).
@@ -162,76 +205,109 @@ fn run_in<T: Scalar>(
     if t_end < t_end.zero_like() {
         bail!("--t-end: must be non-negative, got {}", args.t_end);
     }
+    let t_max = t_end.to_f64();
+    if !t_max.is_finite() {
+        bail!(
+            "--t-end: at most {:e} (the largest f64), got {}",
+            f64::MAX,
+            args.t_end
+        );
+    }
     let choice = TorusChoice {
         torus: args.torus,
         phase1: args.phase1,
         phase2: args.phase2,
     };
-    let motion = ExplicitMotion::new(a?, b?, m?, h?, choice)?;
+    // The phase clock carries as many bits as T needs: the state at t = 1e300 is the motion's.
+    let motion = ExplicitMotion::new_until(a?, b?, m?, h?, choice, t_max)
+        .map_err(crate::args::case_error)?;
     let n = args.samples;
-    let text = |x: &T| x.to_decimal(digits);
-    let v3 = |v: &Vec3<T>| [text(&v[0]), text(&v[1]), text(&v[2])];
-    let mut samples = Vec::with_capacity(n);
+    // Memory: the 16 numbers of every sample are kept (f64: 8 bytes each; MPFR: its limbs and
+    // ~48 bytes of bookkeeping); the output is made from them row by row.
+    let per_number = if bits > F64_BITS {
+        48.0 + 8.0 * f64::from(bits.div_ceil(64))
+    } else {
+        8.0
+    };
+    let bytes = n as f64 * 16.0 * per_number;
+    if bytes > MAX_SAMPLE_BYTES {
+        bail!(
+            "--samples/--digits: {n} samples at {digits} digits need about {} bytes of memory, more than {}; ask for fewer samples or digits",
+            rsts_dynamics::short(bytes),
+            rsts_dynamics::short(MAX_SAMPLE_BYTES)
+        );
+    }
+    let mp = digits > 17 || bits > F64_BITS;
+    // t_k = T·k/(N−1), computed with guard bits and rounded once (T·k may overflow f64).
+    let wide = bits.max(F64_BITS) + 64;
+    let t_big = t_end.to_mpfr(wide);
+    let mut rows: Vec<[T; 16]> = Vec::with_capacity(n);
     for k in 0..n {
-        let t = if n == 1 {
+        let t: T = if n == 1 {
             t_end.zero_like()
+        } else if k + 1 == n {
+            t_end.clone()
         } else {
-            t_end.clone() * t_end.lit(k as f64) / t_end.lit((n - 1) as f64)
+            T::from_mpfr(
+                &(Float::with_val(wide, &t_big * k as u64) / (n - 1) as u64),
+                bits,
+            )
         };
         let s = motion.at(&t);
-        samples.push(Sample {
-            t: text(&t),
-            omega: v3(&s.omega),
-            alpha: v3(&s.alpha),
-            beta: v3(&s.beta),
-            gamma: v3(&s.gamma),
-            omega_fixed: v3(&s.omega_fixed),
-        });
+        let vs = [&s.omega, &s.alpha, &s.beta, &s.gamma, &s.omega_fixed];
+        if vs.iter().any(|v| (0..3).any(|i| !v[i].is_finite())) {
+            bail!(
+                "the closed form is not finite at t = {} (sample {k} of {n})",
+                rsts_dynamics::short(t.to_f64())
+            );
+        }
+        rows.push(std::array::from_fn(|j| {
+            if j == 0 {
+                t.clone()
+            } else {
+                vs[(j - 1) / 3][(j - 1) % 3].clone()
+            }
+        }));
     }
+    let num = |x: &T| {
+        if mp {
+            Number::Decimal(x.to_decimal(digits))
+        } else {
+            Number::F64(x.to_f64())
+        }
+    };
     let c = &motion.constants;
     let doc = Document {
-        a: text(&c.a),
-        b: text(&c.b),
-        m: text(&c.m),
-        h: text(&c.h),
+        a: num(&c.a),
+        b: num(&c.b),
+        m: num(&c.m),
+        h: num(&c.h),
         camera: motion.camera.label().to_string(),
         tori: motion.tori,
         torus: args.torus,
         phase1: args.phase1,
         phase2: args.phase2,
         digits,
-        samples,
+        samples: Samples {
+            rows: &rows,
+            num: &num,
+        },
     };
+    let text = |x: &T| x.to_decimal(digits);
     match args.format {
         Format::Json => output::write_json(out, &doc)?,
         Format::Csv | Format::Table => {
             let mut header = vec!["t".to_string()];
-            for (name, n) in [
-                ("omega", 3),
-                ("alpha", 3),
-                ("beta", 3),
-                ("gamma", 3),
-                ("Omega", 3),
-            ] {
-                header.extend((1..=n).map(|i| format!("{name}{i}")));
+            for name in ["omega", "alpha", "beta", "gamma", "Omega"] {
+                header.extend((1..=3).map(|i| format!("{name}{i}")));
             }
-            let mut table = Tabular::new(header);
-            for s in &doc.samples {
-                let mut row = vec![s.t.clone()];
-                for v in [&s.omega, &s.alpha, &s.beta, &s.gamma, &s.omega_fixed] {
-                    row.extend(v.iter().cloned());
-                }
-                let cells = if args.format == Format::Table && digits <= 17 {
-                    row.iter()
-                        .map(|x| Cell::Num(x.parse().unwrap_or(f64::NAN)))
-                        .collect()
-                } else {
-                    row.into_iter().map(Cell::Text).collect()
-                };
-                table.push(cells);
-            }
+            let as_table = args.format == Format::Table && digits <= 17;
+            let cells = || {
+                rows.iter()
+                    .map(|r| r.iter().map(|x| num(x).cell(as_table)).collect::<Vec<_>>())
+            };
             if args.format == Format::Csv {
-                output::write_csv(out, &table)?;
+                output::write_csv_rows(out, &header, cells())?;
             } else {
                 let [p1, p2] = motion.periods().map(|p| p.to_f64());
                 output::write_key_values(
@@ -239,8 +315,14 @@ fn run_in<T: Scalar>(
                     &[
                         ("camera", doc.camera.clone()),
                         ("torus", format!("{} of {}", args.torus, motion.tori)),
-                        ("a, b", format!("{}, {}", short(&doc.a), short(&doc.b))),
-                        ("m, h", format!("{}, {}", short(&doc.m), short(&doc.h))),
+                        (
+                            "a, b",
+                            format!("{}, {}", short(&text(&c.a)), short(&text(&c.b))),
+                        ),
+                        (
+                            "m, h",
+                            format!("{}, {}", short(&text(&c.m)), short(&text(&c.h))),
+                        ),
                         ("periods", format!("{p1:.10}, {p2:.10}")),
                         (
                             "rotation number",
@@ -250,7 +332,7 @@ fn run_in<T: Scalar>(
                     ],
                 )?;
                 writeln!(out)?;
-                output::write_table(out, &table)?;
+                output::write_table_rows(out, &header, cells)?;
             }
         }
     }

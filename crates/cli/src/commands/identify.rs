@@ -153,6 +153,12 @@ fn run_in<T: Scalar>(
             args.fields.b
         );
     }
+    // The fields' documented range (docs/closed-form.md), as for every other command.
+    if let Err(rsts_closed_form::ClosedFormError::Range(name, why)) =
+        rsts_closed_form::check_ranges(&a, &b, &a.zero_like(), &a.zero_like())
+    {
+        bail!("--{name}: {why}");
+    }
     state.validate().context("--omega/--alpha/--beta")?;
     let fields = Fields {
         a: a.clone(),

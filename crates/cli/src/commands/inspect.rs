@@ -15,15 +15,25 @@ Examples:
   # channels, schemas, message counts, time range, the case and the largest errors
   rsts inspect out/compare.mcap
 
-  # the error series as CSV (columns t, state_error, orientation_error, drift_h, ...)
+  # the summary as one JSON document
+  rsts inspect out/compare.mcap --format json
+
+  # the error series as CSV (columns t, state_error, orientation_error, drift_h, ..., log_time)
   rsts inspect out/compare.mcap --channel /errors --format csv
 
-Exit status: 0 for a healthy file, 3 when the file is truncated or damaged and only part of it
-could be read (that part is printed), 2 for any other error.";
+Every CRC of the file is checked (chunks, data section, summary). Exit status: 0 for a healthy
+file, 3 when the file is truncated or damaged and only part of it could be read (that part is
+printed; a cut file says \"truncated at byte N\"), the same with or without --channel; 2 for any
+other error.";
 
+/// Output format: the summary is `table` or `json`; a `--channel` series is `csv` or `json`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum SeriesFormat {
+pub enum InspectFormat {
+    /// The summary as text (the default without --channel)
+    Table,
+    /// A --channel series as CSV (the default with --channel)
     Csv,
+    /// The summary or the series as one JSON document
     Json,
 }
 
@@ -35,9 +45,10 @@ pub struct Args {
     /// Extract this channel (topic), e.g. /errors or /integrated/state
     #[arg(long, value_name = "NAME")]
     pub channel: Option<String>,
-    /// Format of an extracted series
-    #[arg(long, value_enum, default_value_t = SeriesFormat::Csv)]
-    pub format: SeriesFormat,
+    /// Output format: table or json for the summary (default table), csv or json for a
+    /// --channel series (default csv)
+    #[arg(long, value_enum)]
+    pub format: Option<InspectFormat>,
 }
 
 /// The file was only partly readable: the recovered part has been printed.
@@ -54,17 +65,41 @@ impl std::error::Error for Recovered {}
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let (recovered, notes) = match &args.channel {
         None => {
+            let format = match args.format {
+                None | Some(InspectFormat::Table) => InspectFormat::Table,
+                Some(InspectFormat::Json) => InspectFormat::Json,
+                Some(InspectFormat::Csv) => anyhow::bail!(
+                    "--format csv is for a series (--channel NAME); the summary is table or json"
+                ),
+            };
             let s = inspect::summarize(&args.file)
                 .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
-            write!(out, "{s}")?;
+            if format == InspectFormat::Json {
+                crate::output::write_json(out, &s)?;
+            } else {
+                write!(out, "{s}")?;
+            }
             (s.recovered, s.notes.clone())
         }
         Some(topic) => {
-            let series = inspect::extract(&args.file, topic)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
-            match args.format {
-                SeriesFormat::Csv => write!(out, "{}", series.to_csv())?,
-                SeriesFormat::Json => writeln!(out, "{}", series.to_json())?,
+            let format = match args.format {
+                None | Some(InspectFormat::Csv) => InspectFormat::Csv,
+                Some(InspectFormat::Json) => InspectFormat::Json,
+                Some(InspectFormat::Table) => anyhow::bail!(
+                    "--format table is for the summary; a --channel series is csv or json"
+                ),
+            };
+            let series = inspect::extract(&args.file, topic).map_err(|e| match e {
+                inspect::InspectError::UnknownTopic { .. }
+                | inspect::InspectError::NotJson { .. } => {
+                    anyhow::anyhow!("--channel {topic}: {}: {e}", args.file.display())
+                }
+                e => anyhow::anyhow!("{}: {e}", args.file.display()),
+            })?;
+            if format == InspectFormat::Json {
+                write!(out, "{}", series.to_json())?;
+            } else {
+                write!(out, "{}", series.to_csv())?;
             }
             (series.recovered, series.notes.clone())
         }

@@ -3,6 +3,7 @@
 
 use std::io::Write;
 
+use anyhow::Context;
 use clap::Args as ClapArgs;
 use serde::Serialize;
 
@@ -10,7 +11,7 @@ use rsts_dynamics::integrals;
 use rsts_dynamics::integrators::{MethodName, Stats};
 
 use crate::args::{GridArgs, MethodArgs, ProblemArgs};
-use crate::output::{self, Cell, Format, Tabular};
+use crate::output::{self, Cell, Format};
 
 /// Shown at the end of `rsts integrate --help`.
 pub const EXAMPLES: &str = "\
@@ -85,6 +86,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             config.method
         );
     }
+    let options = if config.method == MethodName::Rk4 {
+        "--t-end/--step/--rtol"
+    } else {
+        "--t-end/--rtol/--atol"
+    };
+    config
+        .check_budget(&problem, &grid)
+        .with_context(|| options.to_string())?;
     let mut solution = config.propagate_f64(&problem, &grid)?;
     // With T = 0 the integrators return the initial state once; the grid still has N times.
     if grid.t_end == 0.0 && solution.states.len() == 1 {
@@ -98,12 +107,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         solution.states.len(),
         grid.samples
     );
+    let stats = solution.stats;
+    let method = solution.method;
+    // The states are consumed into the samples: memory holds one copy of the run.
     let samples: Vec<Sample> = solution
         .times
-        .iter()
-        .zip(&solution.states)
-        .map(|(&t, s)| {
-            let i = integrals(&problem.fields, s);
+        .into_iter()
+        .zip(solution.states)
+        .map(|(t, s)| {
+            let i = integrals(&problem.fields, &s);
             Sample {
                 t,
                 omega: s.omega,
@@ -116,27 +128,36 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             }
         })
         .collect();
+    if let Some(s) = samples
+        .iter()
+        .find(|s| ![s.h, s.k, s.g].iter().all(|x| x.is_finite()))
+    {
+        anyhow::bail!(
+            "the first integrals are not finite at t = {} (the state left f64's range)",
+            rsts_dynamics::short(s.t)
+        );
+    }
     let report = Report {
         a: problem.fields.a,
         b: problem.fields.b,
-        method: solution.method,
+        method,
         t_end: grid.t_end,
         rtol: config.tolerances.rtol,
         atol: config.tolerances.atol,
         samples,
-        stats: solution.stats,
+        stats,
     };
     match args.format {
         Format::Json => output::write_json(out, &report)?,
-        Format::Csv => output::write_csv(out, &tabular(&report))?,
+        Format::Csv => output::write_csv_rows(out, &columns(), rows(&report))?,
         Format::Table => write_human(out, &report, config.step)?,
     }
     Ok(())
 }
 
-fn tabular(report: &Report) -> Tabular {
-    let mut table = Tabular::new(COLUMNS);
-    for s in &report.samples {
+/// The CSV/table rows of the samples, made on demand.
+fn rows(report: &Report) -> impl Iterator<Item = Vec<Cell>> + '_ {
+    report.samples.iter().map(|s| {
         let mut row = vec![Cell::Num(s.t)];
         row.extend(
             s.omega
@@ -146,9 +167,12 @@ fn tabular(report: &Report) -> Tabular {
                 .chain([&s.h, &s.k, &s.g])
                 .map(|&x| Cell::Num(x)),
         );
-        table.push(row);
-    }
-    table
+        row
+    })
+}
+
+fn columns() -> Vec<String> {
+    COLUMNS.iter().map(|c| c.to_string()).collect()
 }
 
 /// Largest |f(sample) − f(first sample)|.
@@ -182,7 +206,7 @@ fn write_human(out: &mut dyn Write, report: &Report, step: Option<f64>) -> std::
         ],
     )?;
     writeln!(out)?;
-    output::write_table(out, &tabular(report))?;
+    output::write_table_rows(out, &columns(), || rows(report))?;
     writeln!(out)?;
     let st = &report.stats;
     let max_constraint = s.iter().map(|x| x.constraint_error).fold(0.0, f64::max);

@@ -15,8 +15,8 @@ use rsts_dynamics::integrators::OutputGrid;
 use rsts_dynamics::scalar::bits_for_digits;
 use rsts_harness::{Analysis, RunInfo, REFERENCE_GUARD_BITS};
 
-use crate::args::{count, finite_f64, CaseArgs, MAX_SAMPLES};
-use crate::output::{self, Cell, Tabular};
+use crate::args::{case_error, count, finite_f64, CaseArgs, MAX_SAMPLES};
+use crate::output;
 
 /// Shown at the end of `rsts reference --help`.
 pub const EXAMPLES: &str = "\
@@ -133,6 +133,22 @@ fn times(args: &Args) -> anyhow::Result<Vec<f64>> {
     Ok(times)
 }
 
+/// Bytes one value takes in the output (digits, sign, point, exponent, separator).
+fn bytes_per_value(format: RefFormat, digits: Option<u32>) -> f64 {
+    match (format, digits) {
+        (RefFormat::Npy, _) => 8.0,
+        (_, Some(d)) => f64::from(d) + 12.0,
+        (_, None) => 25.0,
+    }
+}
+
+/// Names of the 13 columns: t, the state, H, K, G.
+fn column_names() -> Vec<&'static str> {
+    let mut header: Vec<&str> = rsts_external::COLUMNS.to_vec();
+    header.extend(["H", "K", "G"]);
+    header
+}
+
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let times = times(&args)?;
     let digits = match args.digits {
@@ -146,89 +162,134 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if args.format == RefFormat::Npy && args.output.is_none() && std::io::stdout().is_terminal() {
         bail!("--format npy is binary: write it with -o FILE (or redirect stdout)");
     }
-    if let Some(path) = &args.output {
-        rsts_io::check_writable(path).with_context(|| format!("-o {}", path.display()))?;
-    }
+    output::check_output_bytes(
+        "--times/--samples/--digits",
+        "the reference",
+        times.len() as f64 * 13.0 * bytes_per_value(args.format, digits),
+    )?;
     let bits = bits_for_digits(digits.unwrap_or(30)) + REFERENCE_GUARD_BITS;
-    let case = args.case.case(0.0, 1);
+    // The motion is built for the largest |t| asked (its phase clock carries the bits it needs).
+    let t_max = times.iter().fold(0.0, |m: f64, t| m.max(t.abs()));
+    let case = args.case.case(t_max, 1);
+    case.validate().map_err(case_error)?;
     let info = RunInfo {
         method: "reference".into(),
         rtol: None,
         atol: None,
         digits: digits.unwrap_or(15),
     };
-    let analysis = Analysis::for_case(&case, bits, info).map_err(|e| anyhow!("{e}"))?;
-    // One row: t and the nine components, then H, K, G, at the reference precision.
-    let rows: Vec<Vec<Float>> = times
-        .iter()
-        .map(|&t| {
-            let t = Float::with_val(bits, t);
-            let s = analysis.exact_state(&t);
-            let i = integrals(analysis.fields(), &s);
-            let mut row = vec![t];
-            row.extend(s.to_array());
-            row.extend([i.h, i.k, i.g]);
-            row
-        })
-        .collect();
+    let analysis = Analysis::for_case(&case, bits, info).map_err(case_error)?;
+    if let Some(path) = &args.output {
+        rsts_io::check_writable(path).with_context(|| format!("-o {}", path.display()))?;
+    }
+    // One row at a time: t and the nine components, then H, K, G, at the reference precision
+    // (memory does not grow with the number of times).
+    let names = column_names();
+    let row = |t: f64| -> anyhow::Result<Vec<Float>> {
+        let tf = Float::with_val(bits, t);
+        let s = analysis.exact_state(&tf);
+        let i = integrals(analysis.fields(), &s);
+        let mut row = vec![tf];
+        row.extend(s.to_array());
+        row.extend([i.h, i.k, i.g]);
+        // A non-finite value is an error naming where it appeared, never a number printed.
+        if let Some(c) = row
+            .iter()
+            .position(|x| !x.is_finite() || !x.to_f64().is_finite())
+        {
+            bail!(
+                "the closed form is not finite at t = {}: {} = {} (outside f64's range)",
+                rsts_dynamics::short(t),
+                names[c],
+                row[c].to_f64()
+            );
+        }
+        Ok(row)
+    };
     let text = |x: &Float| match digits {
         Some(d) => x.to_string_radix(10, Some(d as usize)),
         None => format!("{:?}", x.to_f64()),
     };
-    let bytes: Vec<u8> = match args.format {
-        RefFormat::Npy => {
-            let plain: Vec<Vec<f64>> = rows
-                .iter()
-                .map(|r| r.iter().map(Float::to_f64).collect())
-                .collect();
-            rsts_external::npy_bytes(&plain, 13)
-        }
-        RefFormat::Csv => {
-            let mut header: Vec<&str> = rsts_external::COLUMNS.to_vec();
-            header.extend(["H", "K", "G"]);
-            let mut table = Tabular::new(header);
-            for r in &rows {
-                table.push(r.iter().map(|x| Cell::Text(text(x))).collect());
-            }
-            let mut buf = Vec::new();
-            output::write_csv(&mut buf, &table)?;
-            buf
-        }
-        RefFormat::Json => {
-            let value = |x: &Float| -> Value {
-                match digits {
-                    Some(_) => Value::String(text(x)),
-                    None => json!(x.to_f64()),
+    let write = |w: &mut dyn Write| -> anyhow::Result<()> {
+        match args.format {
+            RefFormat::Npy => {
+                w.write_all(&rsts_external::npy_header(times.len(), 13))?;
+                for &t in &times {
+                    for x in row(t)? {
+                        w.write_all(&x.to_f64().to_le_bytes())?;
+                    }
                 }
-            };
-            let v3 = |r: &[Float]| r.iter().map(value).collect::<Vec<_>>();
-            let samples: Vec<Value> = rows
-                .iter()
-                .map(|r| {
-                    json!({
+            }
+            RefFormat::Csv => {
+                writeln!(w, "{}", names.join(","))?;
+                for &t in &times {
+                    let r: Vec<String> = row(t)?.iter().map(text).collect();
+                    writeln!(w, "{}", r.join(","))?;
+                }
+            }
+            RefFormat::Json => {
+                // One document, one sample per line, written as the samples are made.
+                let value = |x: &Float| -> Value {
+                    match digits {
+                        Some(_) => Value::String(text(x)),
+                        None => json!(x.to_f64()),
+                    }
+                };
+                let c = &case;
+                let head = [
+                    ("a", json!(c.a)),
+                    ("b", json!(c.b)),
+                    ("m", json!(c.m)),
+                    ("h", json!(c.h)),
+                    ("camera", json!(analysis.motion().camera.label())),
+                    ("torus", json!(c.torus)),
+                    ("phase1", json!(c.phase1)),
+                    ("phase2", json!(c.phase2)),
+                    ("digits", json!(digits)),
+                ];
+                writeln!(w, "{{")?;
+                for (k, v) in head {
+                    writeln!(w, "  {}: {},", json!(k), v)?;
+                }
+                write!(w, "  \"samples\": [")?;
+                for (k, &t) in times.iter().enumerate() {
+                    let r = row(t)?;
+                    let v3 = |r: &[Float]| r.iter().map(value).collect::<Vec<_>>();
+                    let sample = json!({
                         "t": value(&r[0]), "omega": v3(&r[1..4]), "alpha": v3(&r[4..7]),
                         "beta": v3(&r[7..10]), "H": value(&r[10]), "K": value(&r[11]), "G": value(&r[12]),
-                    })
-                })
-                .collect();
-            let c = &case;
-            let doc = json!({
-                "a": c.a, "b": c.b, "m": c.m, "h": c.h,
-                "camera": analysis.motion().camera.label(),
-                "torus": c.torus, "phase1": c.phase1, "phase2": c.phase2,
-                "digits": digits,
-                "samples": samples,
-            });
-            let mut buf = Vec::new();
-            output::write_json(&mut buf, &doc)?;
-            buf
+                    });
+                    write!(w, "{}\n    {sample}", if k == 0 { "" } else { "," })?;
+                }
+                writeln!(w, "\n  ]\n}}")?;
+            }
         }
+        Ok(())
     };
     match &args.output {
         Some(path) => {
-            rsts_io::write_atomic(path, &bytes).with_context(|| format!("-o {}", path.display()))?
+            let name = || format!("-o {}", path.display());
+            let mut file = rsts_io::AtomicFile::create(path).with_context(name)?;
+            {
+                let mut w = std::io::BufWriter::new(&mut file);
+                // A failed write (disk full) names the file.
+                write(&mut w).map_err(|e| {
+                    if e.is::<std::io::Error>() {
+                        e.context(name())
+                    } else {
+                        e
+                    }
+                })?;
+                w.flush().with_context(name)?;
+            }
+            // The file appears only now, whole; an error above removed the temporary.
+            file.commit().with_context(name)?;
         }
-        None => out.write_all(&bytes)?,
+        None => {
+            let mut w = std::io::BufWriter::new(out);
+            write(&mut w)?;
+            w.flush()?;
+        }
     }
     Ok(())
 }

@@ -16,7 +16,7 @@ use rsts_geometry::ply::ply_text;
 use rsts_geometry::render::{auto_view, render_png, RenderOptions, MAX_SIDE, MIN_SIDE};
 use rsts_geometry::scene::write_scene;
 
-use crate::args::{count, finite_f64, FieldArgs};
+use crate::args::{case_error, count, finite_f64, FieldArgs};
 
 /// Shown at the end of `rsts surfaces --help`.
 pub const EXAMPLES: &str = "\
@@ -29,6 +29,32 @@ Examples:
 
   # finer mesh, other view, longer hodograph
   rsts surfaces --m -2.9877 --h 3.2858 --grid 128 --azimuth 60 --elevation 15 --periods 10 --out out/VI";
+
+/// Largest `--grid` (PLY meshes and pictures) and `--scene-grid` (the MCAP scene, whose meshes
+/// are JSON: about 1 kB of memory per vertex while it is written).
+pub const MAX_MESH_GRID: usize = 512;
+pub const MAX_SCENE_GRID: usize = 256;
+/// Most bytes all files of one run may take (estimated before any work).
+pub const MAX_TOTAL_BYTES: f64 = 512.0 * 1024.0 * 1024.0;
+
+/// Estimated bytes of the files of one torus, measured (PLY 175 B per grid point, the scene
+/// 46 B per scene-grid point and 170 B per hodograph sample, a PNG at most 4 B per pixel).
+fn bytes_per_torus(args: &Args) -> f64 {
+    let g = args.grid as f64;
+    let sg = args.scene_grid as f64;
+    let px = f64::from(args.size) * f64::from(args.size);
+    let ply = if args.no_ply {
+        0.0
+    } else {
+        2.0 * 175.0 * g * g
+    };
+    let scene = if args.no_mcap {
+        0.0
+    } else {
+        46.0 * sg * sg + 170.0 * args.samples as f64
+    };
+    ply + scene + 2.0 * 4.0 * px
+}
 
 /// Options of `rsts surfaces`.
 #[derive(Debug, Clone, ClapArgs)]
@@ -44,13 +70,13 @@ pub struct Args {
     /// Only this torus (0..tori); default: every torus of the integral manifold
     #[arg(long, value_name = "K")]
     pub torus: Option<usize>,
-    /// Output directory (created)
+    /// Output directory (created; each file in it is written whole or not at all)
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// Grid size per angle of the PLY meshes and pictures
+    /// Grid size per angle of the PLY meshes and pictures (4 to 512)
     #[arg(long, value_name = "N", default_value = "96", value_parser = count)]
     pub grid: usize,
-    /// Grid size per angle of the surfaces in the MCAP scene (kept modest)
+    /// Grid size per angle of the surfaces in the MCAP scene (4 to 256)
     #[arg(long, value_name = "N", default_value = "64", value_parser = count)]
     pub scene_grid: usize,
     /// Picture size in px (square)
@@ -110,10 +136,13 @@ fn normalize_axes(verts: &[[f64; 3]], curve: &[[f64; 3]]) -> (Vec<[f64; 3]>, Vec
     )
 }
 
-pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    for (name, n) in [("--grid", args.grid), ("--scene-grid", args.scene_grid)] {
-        if !(MIN_GRID..=MAX_GRID).contains(&n) {
-            bail!("{name} must be in {MIN_GRID}..={MAX_GRID}, got {n}");
+pub fn run(args: Args, _out: &mut dyn Write) -> anyhow::Result<()> {
+    for (name, n, max) in [
+        ("--grid", args.grid, MAX_MESH_GRID),
+        ("--scene-grid", args.scene_grid, MAX_SCENE_GRID),
+    ] {
+        if !(MIN_GRID..=max.min(MAX_GRID)).contains(&n) {
+            bail!("{name} must be in {MIN_GRID}..={max}, got {n}");
         }
     }
     if !(MIN_SIDE..=MAX_SIDE).contains(&args.size) {
@@ -133,8 +162,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         phase1: args.phases.0,
         phase2: args.phases.1,
     };
-    let first =
-        ExplicitMotion::<f64>::new(args.fields.a, args.fields.b, args.m, args.h, choice(0))?;
+    let first = ExplicitMotion::<f64>::new(args.fields.a, args.fields.b, args.m, args.h, choice(0))
+        .map_err(case_error)?;
     let tori: Vec<usize> = match args.torus {
         Some(k) if k >= first.tori => bail!(
             "--torus {k}: camera {} has {} torus/tori (0..{})",
@@ -145,8 +174,17 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         Some(k) => vec![k],
         None => (0..first.tori).collect(),
     };
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("--out: cannot create {}", args.out.display()))?;
+    let total = bytes_per_torus(&args) * tori.len() as f64;
+    if total > MAX_TOTAL_BYTES {
+        bail!(
+            "--grid/--scene-grid/--samples/--size: the files of {} torus/tori would take about {} bytes, more than the {} bytes (512 MiB) one run may write; use a smaller grid, fewer samples, --torus K, --no-ply or --no-mcap",
+            tori.len(),
+            rsts_dynamics::short(total),
+            rsts_dynamics::short(MAX_TOTAL_BYTES)
+        );
+    }
+    rsts_io::check_writable_dir(&args.out)
+        .with_context(|| format!("--out {}", args.out.display()))?;
     let view = |verts: &[[f64; 3]]| -> RenderOptions {
         let (az, el) = match (args.azimuth, args.elevation) {
             (None, None) => auto_view(verts),
@@ -159,11 +197,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             elevation_deg: el,
         }
     };
-    writeln!(
-        out,
+    eprintln!(
         "camera {} (a = {}, b = {}, m = {}, h = {}), {} torus/tori",
         first.camera, args.fields.a, args.fields.b, args.m, args.h, first.tori
-    )?;
+    );
     for k in tori {
         let motion =
             ExplicitMotion::<f64>::new(args.fields.a, args.fields.b, args.m, args.h, choice(k))?;
@@ -173,8 +210,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         let hod = hodograph(&motion, t_end, args.samples)?;
         let write = |name: String, bytes: &[u8]| -> anyhow::Result<PathBuf> {
             let path = args.out.join(name);
-            std::fs::write(&path, bytes)
-                .with_context(|| format!("cannot write {}", path.display()))?;
+            rsts_io::write_atomic(&path, bytes)
+                .with_context(|| format!("--out: writing {}", path.display()))?;
             Ok(path)
         };
         let mut written = Vec::new();
@@ -213,11 +250,12 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 TorusMesh::new(&motion, args.scene_grid, args.scene_grid)?
             };
             let path = args.out.join(format!("torus{k}_scene.mcap"));
-            write_scene(&path, &scene_mesh, &hod)?;
+            write_scene(&path, &scene_mesh, &hod)
+                .map_err(|e| anyhow::anyhow!("--out: {}", rsts_io::error_text(&e)))?;
             written.push(path);
         }
         for p in written {
-            writeln!(out, "wrote {}", p.display())?;
+            eprintln!("wrote {}", p.display());
         }
     }
     Ok(())

@@ -32,7 +32,12 @@ fn yes_no(b: bool) -> Cell {
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    let rows = table1(args.fields.a, args.fields.b)?;
+    let rows = table1(args.fields.a, args.fields.b).map_err(|e| anyhow::anyhow!("--a/--b: {e}"))?;
+    if args.format == Format::Csv {
+        // One row per camera, the columns of the JSON rows (docs/output.md).
+        output::write_records_csv(out, &rows)?;
+        return Ok(());
+    }
     if args.format == Format::Json {
         output::write_json(
             out,
@@ -70,29 +75,23 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             Cell::Int(r.tori as u64),
         ]);
     }
-    if args.format == Format::Table {
-        output::write_missing_cameras(out, |l| rows.iter().any(|r| r.camera.label() == l))?;
-    }
-    match args.format {
-        Format::Csv => output::write_csv(out, &t)?,
-        _ => {
-            writeln!(
-                out,
-                "Table 1 at a = {}, b = {} (one representative point per camera)",
-                args.fields.a, args.fields.b
-            )?;
-            output::write_table(out, &t)?;
-            let bad = rows
-                .iter()
-                .filter(|r| !(r.roots_agree && r.segments_agree))
-                .count();
-            writeln!(
-                out,
-                "{} of {} rows agree with the paper",
-                rows.len() - bad,
-                rows.len()
-            )?;
-        }
-    }
+    // The table (CSV and JSON returned above).
+    output::write_missing_cameras(out, |l| rows.iter().any(|r| r.camera.label() == l))?;
+    writeln!(
+        out,
+        "Table 1 at a = {}, b = {} (one representative point per camera)",
+        args.fields.a, args.fields.b
+    )?;
+    output::write_table(out, &t)?;
+    let bad = rows
+        .iter()
+        .filter(|r| !(r.roots_agree && r.segments_agree))
+        .count();
+    writeln!(
+        out,
+        "{} of {} rows agree with the paper",
+        rows.len() - bad,
+        rows.len()
+    )?;
     Ok(())
 }

@@ -23,13 +23,18 @@ Examples:
 pub struct Args {
     #[command(flatten)]
     pub fields: FieldArgs,
-    /// Output format (table or json)
+    /// Output format
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    let rows = table2(args.fields.a, args.fields.b)?;
+    let rows = table2(args.fields.a, args.fields.b).map_err(|e| anyhow::anyhow!("--a/--b: {e}"))?;
+    if args.format == Format::Csv {
+        // One row per camera, the columns of the JSON rows (docs/output.md).
+        output::write_records_csv(out, &rows)?;
+        return Ok(());
+    }
     if args.format == Format::Json {
         output::write_json(
             out,
@@ -66,30 +71,24 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             Cell::Text(list(&r.radicals_changing_sign)),
         ]);
     }
-    if args.format == Format::Table {
-        output::write_missing_cameras(out, |l| rows.iter().any(|r| r.camera == l))?;
-    }
-    match args.format {
-        Format::Csv => output::write_csv(out, &t)?,
-        _ => {
-            writeln!(
-                out,
-                "Table 2 at a = {}, b = {} (one representative point per camera)",
-                args.fields.a, args.fields.b
-            )?;
-            output::write_table(out, &t)?;
-            writeln!(out, "differences from the seed (sec. 3):")?;
-            let mut any = false;
-            for r in &rows {
-                for d in &r.differs_from_paper {
-                    any = true;
-                    writeln!(out, "  {}: {d}", r.camera)?;
-                }
-            }
-            if !any {
-                writeln!(out, "  none")?;
-            }
+    // The table (CSV and JSON returned above).
+    output::write_missing_cameras(out, |l| rows.iter().any(|r| r.camera == l))?;
+    writeln!(
+        out,
+        "Table 2 at a = {}, b = {} (one representative point per camera)",
+        args.fields.a, args.fields.b
+    )?;
+    output::write_table(out, &t)?;
+    writeln!(out, "differences from the seed (sec. 3):")?;
+    let mut any = false;
+    for r in &rows {
+        for d in &r.differs_from_paper {
+            any = true;
+            writeln!(out, "  {}: {d}", r.camera)?;
         }
+    }
+    if !any {
+        writeln!(out, "  none")?;
     }
     Ok(())
 }

@@ -36,6 +36,9 @@ Examples:
 Exit code 1 names every run that missed a threshold or regressed (error grown 10x, time grown 2x);
 exit code 2 is bad input (suite, shard, missing baseline). See docs/validation.md.";
 
+/// Most threads per core `--jobs` may ask for (each holds a run's closed form and series).
+pub const MAX_JOBS_PER_CORE: usize = 8;
+
 /// Options of `rsts validate`.
 #[derive(Debug, Clone, ClapArgs)]
 #[command(args_conflicts_with_subcommands = true)]
@@ -45,7 +48,8 @@ pub struct Args {
     /// The suite file (TOML)
     #[arg(long, value_name = "FILE")]
     pub suite: Option<PathBuf>,
-    /// Directory for report.json, report.md and plots/
+    /// Directory for report.json, report.md and plots/ (written whole when the suite is done;
+    /// a new, empty or previous report directory)
     #[arg(long, value_name = "DIR")]
     pub report: Option<PathBuf>,
     /// A previous report.json (or its directory) to check for regressions
@@ -54,7 +58,7 @@ pub struct Args {
     /// Run only shard K of N (1 <= K <= N): the runs whose index in the id-sorted list is K-1 mod N
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
-    /// Threads (default: one per core)
+    /// Threads (default: one per core; at most 8 per core)
     #[arg(long, value_name = "J")]
     pub jobs: Option<usize>,
     /// Only list the run ids (of the shard, if given) and exit
@@ -148,18 +152,27 @@ fn finish(report: &Report, dir: &std::path::Path, out: &mut dyn Write) -> anyhow
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if let Some(MergeCommand::Merge(m)) = args.merge {
+        if let Some(b) = &m.baseline {
+            Report::read(b).map_err(|e| anyhow::anyhow!("--baseline: {e}"))?;
+        }
         let report = merge_dirs(&m.dirs, &m.report, m.baseline.as_deref())?;
         return finish(&report, &m.report, out);
     }
     let Some(suite) = args.suite else {
         bail!("--suite FILE is required (or `rsts validate merge DIR... --report DIR`)");
     };
-    let shard: Option<Shard> = args.shard.as_deref().map(str::parse).transpose()?;
+    let shard: Option<Shard> = args
+        .shard
+        .as_deref()
+        .map(str::parse)
+        .transpose()
+        .map_err(|e| anyhow::anyhow!("--shard: {e}"))?;
     let exec = match &args.exec {
         None => None,
         Some(command) => {
             let argv = rsts_external::split_command(command)
                 .map_err(|e| anyhow::anyhow!("--exec: {e}"))?;
+            rsts_external::check_program(&argv[0]).map_err(|e| anyhow::anyhow!("--exec: {e}"))?;
             if !(args.timeout.exec_timeout.is_finite() && args.timeout.exec_timeout > 0.0) {
                 bail!("--exec-timeout: must be a positive number of seconds");
             }
@@ -172,8 +185,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             ))
         }
     };
+    // Inputs named by their options before anything runs (the library reads them again).
+    let loaded = Suite::load_with(&suite, exec.as_ref().map(|(n, a)| (n.as_str(), a)))
+        .map_err(|e| anyhow::anyhow!("--suite: {e}"))?;
+    if let Some(b) = &args.baseline {
+        Report::read(b).map_err(|e| anyhow::anyhow!("--baseline: {e}"))?;
+    }
     if args.list {
-        let s = Suite::load_with(&suite, exec.as_ref().map(|(n, a)| (n.as_str(), a)))?;
+        let s = loaded;
         let runs = match shard {
             Some(sh) => sh.select(&s.runs),
             None => s.runs,
@@ -186,8 +205,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let Some(report_dir) = args.report else {
         bail!("--report DIR is required");
     };
-    if args.jobs == Some(0) {
-        bail!("--jobs must be at least 1");
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let max_jobs = MAX_JOBS_PER_CORE * cores;
+    match args.jobs {
+        Some(0) => bail!("--jobs must be at least 1"),
+        Some(j) if j > max_jobs => bail!(
+            "--jobs: at most {max_jobs} threads ({MAX_JOBS_PER_CORE} per core on this machine's {cores}); more only add memory, got {j}"
+        ),
+        _ => {}
     }
     let opts = Options {
         suite,

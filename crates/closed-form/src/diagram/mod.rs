@@ -55,10 +55,12 @@ fn check_fields(a: f64, b: f64) -> Result<(), ClosedFormError> {
     }
     if !(b > 0.0 && a > b) {
         return Err(ClosedFormError::Parameters(format!(
-            "the diagram needs a > b > 0 (got a = {a}, b = {b}); b = 0 (Kovalevskaya) and b = a (Yehia) are reducible cases without the manifold N"
+            "the diagram needs a > b > 0 (got a = {}, b = {}); b = 0 (Kovalevskaya) and b = a (Yehia) are reducible cases without the manifold N",
+            rsts_dynamics::short(a),
+            rsts_dynamics::short(b)
         )));
     }
-    Ok(())
+    crate::constants::check_ranges(&a, &b, &0.0, &0.0)
 }
 
 /// "1 torus", "n tori" (in the picture's labels and in a point's description).

@@ -113,6 +113,11 @@ impl PhaseClock {
         self.bits
     }
 
+    /// The rates u̇ of both variables.
+    pub(super) fn u_dot(&self) -> &[Float; 2] {
+        &self.u_dot
+    }
+
     /// u at time t reduced to [0, 4K), in MPFR at the clock's precision.
     pub(super) fn reduced(&self, i: usize, t: &Float) -> Float {
         let u = Float::with_val(self.bits, &self.u_dot[i] * t) + &self.u0[i];

@@ -99,18 +99,34 @@ pub struct Tolerances {
 }
 
 impl Tolerances {
-    /// Checked constructor: both finite and positive.
+    /// Checked constructor: both finite, positive and at most 1 (the state is of order 1: a
+    /// tolerance above 1 accepts any answer).
     pub fn new(rtol: f64, atol: f64) -> Result<Self, DynamicsError> {
         for (name, v) in [("rtol", rtol), ("atol", atol)] {
             if !v.is_finite() || v <= 0.0 {
                 return Err(DynamicsError::Settings(format!(
-                    "{name} must be a positive finite number, got {v}"
+                    "{name} must be a positive finite number, got {}",
+                    crate::short(v)
+                )));
+            }
+            if v > 1.0 {
+                return Err(DynamicsError::Settings(format!(
+                    "{name} must be at most 1 (the state is of order 1; a larger tolerance \
+                     accepts any answer), got {}",
+                    crate::short(v)
                 )));
             }
         }
         Ok(Self { rtol, atol })
     }
 }
+
+/// Most steps one run may take, every method (the integrators stop there; a run whose estimate
+/// exceeds it is refused before it starts, see [`MethodConfig::check_budget`]).
+pub const MAX_STEPS: u64 = 200_000_000;
+
+/// Unit round-off of f64, 2⁻⁵³: the smallest rtol the f64 methods accept.
+pub const F64_UNIT_ROUNDOFF: f64 = 1.1102230246251565e-16;
 
 /// What a run cost.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
@@ -234,6 +250,8 @@ pub struct MethodConfig {
 }
 
 impl MethodConfig {
+    /// Checked: a positive finite step; for the adaptive f64 methods an rtol not below the unit
+    /// round-off of f64 (2⁻⁵³ ≈ 1.1e-16; the Taylor methods check theirs against their scalar).
     pub fn new(
         method: MethodName,
         tolerances: Tolerances,
@@ -242,9 +260,20 @@ impl MethodConfig {
         if let Some(h) = step {
             if !h.is_finite() || h <= 0.0 {
                 return Err(DynamicsError::Settings(format!(
-                    "step must be a positive finite number, got {h}"
+                    "step must be a positive finite number, got {}",
+                    crate::short(h)
                 )));
             }
+        }
+        if matches!(method, MethodName::Dopri5 | MethodName::Dop853)
+            && tolerances.rtol < F64_UNIT_ROUNDOFF
+        {
+            return Err(DynamicsError::Settings(format!(
+                "rtol = {} is below the unit round-off 1.1e-16 of f64: {method} cannot deliver \
+                 it (its error estimate drowns in rounding and the step shrinks without end); \
+                 use taylor-dd (to 1e-32) or taylor-mp",
+                crate::short(tolerances.rtol)
+            )));
         }
         Ok(Self {
             method,
@@ -289,6 +318,75 @@ impl MethodConfig {
         2f64.powi(-((self.working_bits() + extra).min(1000) as i32))
     }
 
+    /// The most steps a run of this method may take.
+    pub fn step_limit(&self) -> u64 {
+        match self.method {
+            MethodName::Rk4 | MethodName::Dopri5 | MethodName::Dop853 => MAX_STEPS,
+            _ => taylor::MAX_STEPS,
+        }
+    }
+
+    /// An optimistic estimate of the steps a run over [0, `grid.t_end`] takes: exact for rk4;
+    /// c·λ·T·tol^(−1/p) for the Dormand–Prince methods of order p and c·λ·T for the Taylor
+    /// methods (whose order grows with the tolerance), with λ = |ω₀| + √(a + b) the rate of the
+    /// motion and tol = max(rtol, atol). The constants c are a quarter of those measured on the
+    /// default case (dop853 0.11, dopri5 0.13, Taylor 1.4 steps per unit of λT), so the estimate
+    /// undercounts: only jobs that are hopeless are refused.
+    pub fn estimate_steps(&self, problem: &Problem<f64>, grid: &OutputGrid) -> f64 {
+        if grid.samples <= 1 || grid.t_end == 0.0 {
+            return 0.0;
+        }
+        let w = &problem.initial.omega;
+        let rate = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt()
+            + (problem.fields.a + problem.fields.b).max(0.0).sqrt();
+        let tol = self.tolerances.rtol.max(self.tolerances.atol).min(1.0);
+        let work = rate * grid.t_end;
+        match self.method {
+            MethodName::Rk4 => Rk4::from_tolerances(self.tolerances, self.step).steps_for(grid),
+            MethodName::Dopri5 => 0.13 / 4.0 * work * tol.powf(-1.0 / Dopri5::ORDER as f64),
+            MethodName::Dop853 => 0.11 / 4.0 * work * tol.powf(-1.0 / Dop853::ORDER as f64),
+            _ => 1.4 / 4.0 * work,
+        }
+    }
+
+    /// Refuse at once a run whose [`estimate_steps`](Self::estimate_steps) exceeds its
+    /// [`step_limit`](Self::step_limit), with the estimate.
+    pub fn check_budget(
+        &self,
+        problem: &Problem<f64>,
+        grid: &OutputGrid,
+    ) -> Result<(), DynamicsError> {
+        let steps = self.estimate_steps(problem, grid);
+        let limit = self.step_limit() as f64;
+        if steps <= limit {
+            return Ok(());
+        }
+        let how = match self.method {
+            MethodName::Rk4 => format!(
+                "rk4 with step {} takes",
+                crate::short(Rk4::from_tolerances(self.tolerances, self.step).step)
+            ),
+            m => format!(
+                "{m} at rtol {}, atol {} needs at least about",
+                crate::short(self.tolerances.rtol),
+                crate::short(self.tolerances.atol)
+            ),
+        };
+        Err(DynamicsError::Settings(format!(
+            "{how} {} steps over t-end {} (estimated from the tolerance, T and the method's \
+             order), more than the limit of {} steps per run; shorten t-end or loosen the \
+             tolerance{}",
+            crate::short(steps),
+            crate::short(grid.t_end),
+            crate::short(limit),
+            if self.method == MethodName::Rk4 {
+                " (rk4: a larger step)"
+            } else {
+                ""
+            }
+        )))
+    }
+
     /// Run the configured method from a high-precision problem and return high-precision states
     /// (at the precision of `problem.initial`). The problem is rounded to the method's scalar
     /// (f64, double-double, MPFR at the configured digits) and the states are widened exactly
@@ -299,6 +397,7 @@ impl MethodConfig {
         grid: &OutputGrid,
     ) -> Result<Solution<Float>, DynamicsError> {
         let out_bits = problem.initial.omega[0].prec();
+        self.check_budget(&map_problem(problem, Float::to_f64), grid)?;
         let widen = |x: &f64| Float::with_val(out_bits, *x);
         match self.method {
             MethodName::Rk4 | MethodName::Dopri5 | MethodName::Dop853 => {
@@ -328,6 +427,7 @@ impl MethodConfig {
         problem: &Problem<f64>,
         grid: &OutputGrid,
     ) -> Result<Solution<f64>, DynamicsError> {
+        self.check_budget(problem, grid)?;
         match self.method {
             MethodName::Rk4 => {
                 Rk4::from_tolerances(self.tolerances, self.step).propagate_grid(problem, grid)

@@ -10,13 +10,81 @@ use super::{OutputGrid, Solution, Stats};
 
 pub(super) type Vector9 = SVector<f64, DIM>;
 
-/// The Euler–Poisson vector field as an `ode_solvers` system.
-pub(super) struct EulerPoissonSystem(pub VectorField<f64>);
+/// The Euler–Poisson vector field as an `ode_solvers` system in the scaled time s = t/Δ, where
+/// Δ is the spacing of the output grid: dy/ds = Δ·f(y). The grid times are then the integers
+/// 0, 1, …, N−1, which `ode_solvers`' dense output (times accumulated as x₀ + dx + dx + …)
+/// reaches exactly for any N up to 2⁵³ — in t the accumulated times drifted off the grid beyond
+/// ~8000 samples ("no dense output at t"). It also stops the run at the first non-finite output.
+pub(super) struct EulerPoissonSystem {
+    pub field: VectorField<f64>,
+    /// Δ: one unit of s in t.
+    pub scale: f64,
+    /// The scaled time of the first non-finite output or derivative, if any.
+    pub non_finite_at: Option<f64>,
+}
+
+impl EulerPoissonSystem {
+    pub fn new(field: VectorField<f64>, scale: f64) -> Self {
+        Self {
+            field,
+            scale,
+            non_finite_at: None,
+        }
+    }
+}
 
 impl System<f64, Vector9> for EulerPoissonSystem {
-    fn system(&self, _t: f64, y: &Vector9, dy: &mut Vector9) {
-        self.0.eval_into(y.as_slice(), dy.as_mut_slice());
+    fn system(&self, _s: f64, y: &Vector9, dy: &mut Vector9) {
+        self.field.eval_into(y.as_slice(), dy.as_mut_slice());
+        for d in dy.iter_mut() {
+            *d *= self.scale;
+        }
     }
+
+    fn solout(&mut self, s: f64, y: &Vector9, dy: &Vector9) -> bool {
+        if y.iter().chain(dy.iter()).all(|x| x.is_finite()) {
+            return false;
+        }
+        self.non_finite_at.get_or_insert(s);
+        true
+    }
+}
+
+/// The error for a state that is not finite at grid time `t` (sample `k` of `n`).
+pub(super) fn non_finite_at(method: &str, t: f64, k: usize, n: usize) -> DynamicsError {
+    DynamicsError::Integration(format!(
+        "{method}: the solution is not finite at t = {} (sample {k} of {n}); the tolerances or \
+         the step are too loose for this motion, or it is singular",
+        crate::short(t)
+    ))
+}
+
+/// An `ode_solvers` failure with its scaled time converted back to t.
+pub(super) fn solver_error(
+    method: &str,
+    e: ode_solvers::dop_shared::IntegrationError,
+    scale: f64,
+) -> DynamicsError {
+    use ode_solvers::dop_shared::IntegrationError as E;
+    let what = match e {
+        E::MaxNumStepReached { x, n_step } => format!(
+            "more than {} steps before t = {}",
+            crate::short(f64::from(n_step)),
+            crate::short(x * scale)
+        ),
+        E::StepSizeUnderflow { x } => format!(
+            "step size underflow at t = {} (the tolerances cannot be met in f64 here, or the \
+             solution is singular)",
+            crate::short(x * scale)
+        ),
+        E::StiffnessDetected { x } => {
+            format!(
+                "the problem became stiff at t = {}",
+                crate::short(x * scale)
+            )
+        }
+    };
+    DynamicsError::Integration(format!("{method}: {what}"))
 }
 
 pub(super) fn to_vector(s: &State<f64>) -> Vector9 {
@@ -36,9 +104,9 @@ pub(super) fn convert_stats(s: ode_solvers::dop_shared::Stats, seconds: f64) -> 
     }
 }
 
-/// Match the dense output of an `ode_solvers` run (times accumulated as x₀ + dx + dx + …) to the
-/// grid: every grid time must have an output point within a relative 1e-9 of the spacing.
-/// The reported time is the one at which the solver evaluated its interpolant.
+/// Match the dense output of an `ode_solvers` run in the scaled time s = t/Δ (outputs at
+/// s = 0, 1, 2, … exactly) to the grid: output k is grid time k, T·k/(N−1) (within one rounding
+/// of k·Δ). Every state must be finite.
 pub(super) fn collect_dense(
     method: &'static str,
     grid: &OutputGrid,
@@ -46,25 +114,26 @@ pub(super) fn collect_dense(
     ys: &[Vector9],
     stats: Stats,
 ) -> Result<Solution<f64>, DynamicsError> {
-    let dx = grid.spacing();
-    let tol = 1e-9 * dx.max(f64::MIN_POSITIVE);
     let mut times = Vec::with_capacity(grid.samples);
     let mut states = Vec::with_capacity(grid.samples);
-    let mut j = 0;
     for k in 0..grid.samples {
         let t = grid.time(k);
-        while j < xs.len() && xs[j] < t - tol {
-            j += 1;
+        match (xs.get(k), ys.get(k)) {
+            (Some(&s), Some(y)) if s == k as f64 => {
+                if y.iter().any(|x| !x.is_finite()) {
+                    return Err(non_finite_at(method, t, k, grid.samples));
+                }
+                times.push(t);
+                states.push(to_state(y));
+            }
+            _ => {
+                return Err(DynamicsError::Integration(format!(
+                    "{method}: no dense output at t = {} (sample {k} of {})",
+                    crate::short(t),
+                    grid.samples
+                )))
+            }
         }
-        if j >= xs.len() || (xs[j] - t).abs() > tol {
-            return Err(DynamicsError::Integration(format!(
-                "{method}: no dense output at t = {t} (sample {k} of {})",
-                grid.samples
-            )));
-        }
-        times.push(xs[j]);
-        states.push(to_state(&ys[j]));
-        j += 1;
     }
     Ok(Solution {
         method,
@@ -74,15 +143,46 @@ pub(super) fn collect_dense(
     })
 }
 
-/// End time to give an `ode_solvers` dense-output run: slightly beyond the last grid time.
+/// End of an `ode_solvers` dense-output run, in the scaled time s = t/Δ: slightly beyond the
+/// last grid time s = N − 1.
 ///
 /// `ode_solvers` 0.6 (Dopri5 and Dop853) pushes an output "at x_end" from *any* step after which
 /// the next dense-output time is within 1e-9 of x_end, with θ = (x_end − x_old)/h_old > 1 when
 /// that step ends before x_end: the last sample was an extrapolation, off by ~1e-4 at rtol 1e-12.
-/// Ending a hair past T (never within 1e-9 of a grid time) makes every sample, T included, an
-/// interpolation inside the step that contains it; the cost is one extra short step.
+/// Ending a hair past N − 1 (never within 1e-9 of a grid time) makes every sample, T included, an
+/// interpolation inside the step that contains it; the cost is one extra short step. Relative to
+/// the spacing, so a tiny T (1e-300) does not integrate on to an absolute 1e-8 in steps of T.
 pub(super) fn solver_end(grid: &OutputGrid) -> f64 {
-    grid.t_end + 1e-6 * grid.spacing() + 1e-8
+    (grid.samples - 1) as f64 + 1e-6
+}
+
+/// Below this grid spacing the scaled field Δ·f(y) would lose digits to subnormal numbers; the
+/// motion over such a time is y₀ + t·f(y₀) to within f64 rounding (the next term is ~t²).
+pub(super) const TINY_SPACING: f64 = 1e-290;
+
+/// The samples of a grid whose spacing is below [`TINY_SPACING`]: y₀ + t·f(y₀) (one evaluation).
+pub(super) fn tiny_grid(
+    method: &'static str,
+    field: &VectorField<f64>,
+    initial: &State<f64>,
+    grid: &OutputGrid,
+) -> Solution<f64> {
+    let y0 = initial.to_array();
+    let f0 = field.eval(&y0);
+    let times = grid.times();
+    let states = times
+        .iter()
+        .map(|&t| State::from_slice(&std::array::from_fn::<f64, DIM, _>(|i| y0[i] + t * f0[i])))
+        .collect();
+    Solution {
+        method,
+        times,
+        states,
+        stats: Stats {
+            rhs_evals: 1,
+            ..Stats::default()
+        },
+    }
 }
 
 /// Solution of a grid with a single sample: the initial state, no work.
@@ -94,10 +194,6 @@ pub(super) fn initial_only(method: &'static str, initial: &State<f64>) -> Soluti
         stats: Stats::default(),
     }
 }
-
-/// Maximum number of steps allowed in one run (ode_solvers' default of 1e5 is too few for
-/// long validation runs at tight tolerances).
-pub(super) const MAX_STEPS: u32 = 200_000_000;
 
 /// Defines an adaptive Dormand–Prince method of `ode_solvers` as a project method: a type with
 /// its name and order as associated constants, configured by [`super::Tolerances`], implementing
@@ -135,11 +231,16 @@ macro_rules! dormand_prince_method {
                 if grid.samples <= 1 || grid.t_end == 0.0 {
                     return Ok(adapter::initial_only(Self::NAME, &problem.initial));
                 }
+                let field = $crate::equations::VectorField::new(&problem.fields);
+                let scale = grid.spacing();
+                if scale < adapter::TINY_SPACING {
+                    return Ok(adapter::tiny_grid(Self::NAME, &field, &problem.initial, grid));
+                }
                 let mut solver = <$solver>::from_param(
-                    adapter::EulerPoissonSystem($crate::equations::VectorField::new(&problem.fields)),
+                    adapter::EulerPoissonSystem::new(field, scale),
                     0.0,
                     adapter::solver_end(grid),
-                    grid.spacing(),
+                    1.0,
                     adapter::to_vector(&problem.initial),
                     self.tolerances.rtol,
                     self.tolerances.atol,
@@ -147,16 +248,16 @@ macro_rules! dormand_prince_method {
                     $beta,
                     $fac_min,
                     $fac_max,
-                    grid.t_end,
+                    (grid.samples - 1) as f64,
                     0.0,
-                    adapter::MAX_STEPS,
+                    $crate::integrators::MAX_STEPS as u32,
                     1000,
                     ode_solvers::OutputType::Dense,
                 );
                 let start = std::time::Instant::now();
-                let stats = solver.integrate().map_err(|e| {
-                    $crate::error::DynamicsError::Integration(format!("{}: {e}", Self::NAME))
-                })?;
+                let stats = solver
+                    .integrate()
+                    .map_err(|e| adapter::solver_error(Self::NAME, e, scale))?;
                 let seconds = start.elapsed().as_secs_f64();
                 adapter::collect_dense(
                     Self::NAME,

@@ -1,18 +1,21 @@
-//! The classical fourth-order Runge–Kutta method with a fixed step, from `ode_solvers`.
+//! The classical fourth-order Runge–Kutta method with a fixed step.
 //!
 //! Each interval between two grid times is covered by a whole number of equal steps, so the grid
 //! is hit exactly. Without a given step, the step comes from the tolerance: the local error of
 //! RK4 is ~ h⁵, so h = rtol^(1/4) (error per unit time ~ h⁴ = rtol), capped at 0.01.
+//!
+//! The stepping loop keeps only the current state and the four stages: memory is bounded by the
+//! number of samples, whatever the number of steps (`ode_solvers::Rk4` stored every step). The
+//! step count is known in advance and checked against [`super::MAX_STEPS`] before any work.
 
 use std::time::Instant;
 
 use crate::equations::VectorField;
 use crate::error::DynamicsError;
+use crate::state::{State, DIM};
 
-use super::ode_solvers_adapter::{
-    convert_stats, initial_only, to_state, to_vector, EulerPoissonSystem,
-};
-use super::{OutputGrid, Problem, Propagator, Solution, Stats, Tolerances};
+use super::ode_solvers_adapter::{initial_only, non_finite_at};
+use super::{OutputGrid, Problem, Propagator, Solution, Stats, Tolerances, MAX_STEPS};
 
 /// Classical RK4 with fixed step `step`.
 #[derive(Clone, Copy, Debug)]
@@ -34,6 +37,25 @@ impl Rk4 {
     pub fn from_tolerances(tol: Tolerances, step: Option<f64>) -> Self {
         Self::new(step.unwrap_or_else(|| tol.rtol.powf(0.25).min(0.01)))
     }
+
+    /// Steps per grid interval (at least 1).
+    fn per_interval(&self, grid: &OutputGrid) -> f64 {
+        (grid.spacing() / self.step).ceil().max(1.0)
+    }
+
+    /// The exact number of steps of a run on `grid`.
+    pub fn steps_for(&self, grid: &OutputGrid) -> f64 {
+        if grid.samples <= 1 || grid.t_end == 0.0 {
+            0.0
+        } else {
+            self.per_interval(grid) * (grid.samples - 1) as f64
+        }
+    }
+}
+
+/// y + h·k, component by component.
+fn axpy(y: &[f64; DIM], h: f64, k: &[f64; DIM]) -> [f64; DIM] {
+    std::array::from_fn(|i| y[i] + h * k[i])
 }
 
 impl Propagator<f64> for Rk4 {
@@ -49,43 +71,46 @@ impl Propagator<f64> for Rk4 {
         if grid.samples <= 1 || grid.t_end == 0.0 {
             return Ok(initial_only(Self::NAME, &problem.initial));
         }
-        let dx = grid.spacing();
-        let per_interval = (dx / self.step).ceil().max(1.0);
-        if per_interval * (grid.samples as f64) > 1e10 {
+        let steps = self.steps_for(grid);
+        if steps > MAX_STEPS as f64 {
             return Err(DynamicsError::Settings(format!(
-                "rk4 step {} is too small for t-end {} ({} steps)",
-                self.step,
-                grid.t_end,
-                per_interval * grid.samples as f64
+                "rk4 with step {} over t-end {} takes {} steps, more than the limit of {}; \
+                 use a larger step (rk4's default step is rtol^(1/4))",
+                crate::short(self.step),
+                crate::short(grid.t_end),
+                crate::short(steps),
+                crate::short(MAX_STEPS as f64)
             )));
         }
+        let n = self.per_interval(grid) as u64;
         let field = VectorField::new(&problem.fields);
-        let mut y = to_vector(&problem.initial);
-        let mut times = vec![0.0];
-        let mut states = vec![problem.initial.clone()];
+        let mut y = problem.initial.to_array();
+        let mut times = Vec::with_capacity(grid.samples);
+        let mut states = Vec::with_capacity(grid.samples);
+        times.push(0.0);
+        states.push(problem.initial.clone());
         let mut stats = Stats::default();
+        let (mut k1, mut k2, mut k3, mut k4) = ([0.0; DIM], [0.0; DIM], [0.0; DIM], [0.0; DIM]);
         let start = Instant::now();
         for k in 1..grid.samples {
             let (t0, t1) = (grid.time(k - 1), grid.time(k));
-            // ode_solvers takes ceil((t1 − t0)/h) steps: make sure that is `per_interval` (a
-            // rounded-down h gave one step too many, ending past t1 by h).
-            let mut h = (t1 - t0) / per_interval;
-            while ((t1 - t0) / h).ceil() > per_interval {
-                h = f64::from_bits(h.to_bits() + 1);
+            let h = (t1 - t0) / n as f64;
+            for _ in 0..n {
+                field.eval_into(&y, &mut k1);
+                field.eval_into(&axpy(&y, 0.5 * h, &k1), &mut k2);
+                field.eval_into(&axpy(&y, 0.5 * h, &k2), &mut k3);
+                field.eval_into(&axpy(&y, h, &k3), &mut k4);
+                for i in 0..DIM {
+                    y[i] += h / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+                }
             }
-            let mut solver = ode_solvers::Rk4::new(EulerPoissonSystem(field.clone()), t0, y, t1, h);
-            let s = solver
-                .integrate()
-                .map_err(|e| DynamicsError::Integration(format!("{}: {e}", Self::NAME)))?;
-            let s = convert_stats(s, 0.0);
-            stats.accepted_steps += s.accepted_steps;
-            stats.rhs_evals += s.rhs_evals;
-            y = *solver
-                .y_out()
-                .last()
-                .expect("rk4 returns at least the initial point");
+            stats.accepted_steps += n;
+            stats.rhs_evals += Self::STAGES * n;
+            if y.iter().any(|x| !x.is_finite()) {
+                return Err(non_finite_at(Self::NAME, t1, k, grid.samples));
+            }
             times.push(t1);
-            states.push(to_state(&y));
+            states.push(State::from_slice(&y));
         }
         stats.integration_seconds = start.elapsed().as_secs_f64();
         Ok(Solution {
