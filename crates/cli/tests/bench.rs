@@ -123,7 +123,10 @@ fn svg_has_one_line_per_method() {
     assert_eq!(svg.matches("<polyline").count(), 3, "one line per method");
     assert_eq!(svg.matches("<circle").count(), 6, "one marker per row");
     assert!(!svg.contains("stroke-dasharray"), "no peer, no dashes");
-    assert!(svg.contains(">1e-"), "log axes");
+    assert!(svg.contains(r#"class="tick x" data-v="1e-"#), "log axes");
+    for tol in ["1e-6", "1e-10"] {
+        assert_eq!(svg.matches(&format!(">{tol}<")).count(), 3, "tolerance {tol} at each point");
+    }
     assert!(String::from_utf8_lossy(&out.stdout).contains("max error"));
 }
 

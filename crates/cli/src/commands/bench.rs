@@ -37,7 +37,9 @@ Examples:
   # extended and multiple precision (taylor-mp at 90 digits)
   rsts bench --methods taylor-dd,taylor-mp --digits 90 --tolerances 1e-20,1e-30,1e-50,1e-80
 
-  # side by side with heyoka (scripts/peer_heyoka.py writes the peer's rows)
+  # side by side with heyoka (scripts/install_heyoka.sh installs it into .venv-heyoka;
+  # scripts/peer_heyoka.py writes the peer's rows)
+  # needs: heyoka
   rsts bench --write-reference out/ref.json
   .venv-heyoka/bin/python scripts/peer_heyoka.py compare out/ref.json --methods f64 \\
       --tolerances 1e-8,1e-10,1e-12,1e-14 --out out/heyoka.json
@@ -386,6 +388,8 @@ fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::Result<Stri
     }
     for (s, mut p) in series.iter_mut().zip(points) {
         p.sort_by(|a, b| b.0.total_cmp(&a.0));
+        // Each point labelled with its tolerance.
+        s.point_labels = p.iter().map(|(tol, _, _)| format!("{tol:e}")).collect();
         s.points = p.into_iter().map(|(_, e, t)| (e, t)).collect();
     }
     assign_colours(&mut series);
@@ -398,7 +402,7 @@ fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::Result<Stri
             "max state error over {} samples (closed-form reference)",
             case.samples
         ),
-        y_label: format!("integration seconds (median of {repeats})"),
+        y_label: format!("integration seconds (median of {repeats}); points: tolerance"),
         x_scale: Scale::Log10,
         y_scale: Scale::Log10,
         series,
