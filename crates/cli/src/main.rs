@@ -7,6 +7,7 @@
 
 mod args;
 mod commands;
+mod invocation;
 mod output;
 
 use std::io::{self, Write};

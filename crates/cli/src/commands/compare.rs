@@ -224,8 +224,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {
         writeln!(
             out,
-            "\nMCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `rsts inspect {path}`.",
-            stats.samples, stats.messages
+            "\nMCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `{} inspect {path}`.",
+            stats.samples,
+            stats.messages,
+            crate::invocation::invocation()
         )?;
     }
     if !report.complete {
