@@ -24,8 +24,8 @@ Examples:
   # every torus of camera V (a = 1, b = 0.5): PLY, PNG and the MCAP scene in out/V
   rsts surfaces --m -0.7092 --h 1.5643 --out out/V
 
-  # one torus, the pictures of docs/geometry.md
-  rsts surfaces --a 1 --b 0.5 --m 0.3 --h -0.375 --torus 0 --out docs/img/I+ --no-mcap --no-ply
+  # one torus, only the pictures (those of docs/geometry.md: scripts/make_pictures.sh)
+  rsts surfaces --a 1 --b 0.5 --m 0.3 --h -0.375 --torus 0 --out out/I+ --no-mcap --no-ply
 
   # finer mesh, other view, longer hodograph
   rsts surfaces --m -2.9877 --h 3.2858 --grid 128 --azimuth 60 --elevation 15 --periods 10 --out out/VI";
