@@ -15,6 +15,9 @@
 //!   commands after it, up to the next blank line, run only when that tool is there (a remark in
 //!   parentheses may follow: `# needs: slurm (run by sbatch)`); otherwise
 //!   they are skipped with a message (`rsts_io::report_skip`, counted by scripts/test.sh).
+//! - `# exit: 0, 1`: the exit statuses the next command may end with (default 0), for a command
+//!   whose documented outcome may be a failure, e.g. a baseline comparison that a loaded machine
+//!   can turn into a timing regression.
 //! - `# takes: 5 min`: the next command is long. It is started and stopped after
 //!   PROBE_SECONDS if still running (it must not fail before); `RSTS_EXAMPLES_FULL=1` runs it to
 //!   the end.
@@ -43,6 +46,8 @@ struct Example {
     command: String,
     needs: Vec<String>,
     takes: Option<String>,
+    /// Exit statuses that count as success (`# exit: 0, 1`); default 0.
+    exit: Vec<i32>,
 }
 
 #[derive(Debug)]
@@ -57,6 +62,7 @@ fn parse_block(lines: &[(usize, String)]) -> Result<Vec<Example>, String> {
     let mut out = Vec::new();
     let mut needs: Vec<String> = Vec::new();
     let mut takes: Option<String> = None;
+    let mut exit: Vec<i32> = vec![0];
     let mut k = 0;
     while k < lines.len() {
         let (line, text) = (&lines[k].0, lines[k].1.trim());
@@ -84,6 +90,18 @@ fn parse_block(lines: &[(usize, String)]) -> Result<Vec<Example>, String> {
             takes = Some(rest.trim().to_string());
             continue;
         }
+        if let Some(rest) = text.strip_prefix("# exit:") {
+            let codes = rest.split('(').next().unwrap_or("");
+            exit = codes
+                .split([',', ' '])
+                .filter(|c| !c.is_empty())
+                .map(|c| {
+                    c.parse()
+                        .map_err(|_| format!("line {line}: bad `# exit:` {c}"))
+                })
+                .collect::<Result<_, _>>()?;
+            continue;
+        }
         if text.starts_with('#') {
             continue;
         }
@@ -109,6 +127,7 @@ fn parse_block(lines: &[(usize, String)]) -> Result<Vec<Example>, String> {
             command,
             needs: needs.clone(),
             takes: takes.take(),
+            exit: std::mem::replace(&mut exit, vec![0]),
         });
     }
     Ok(out)
@@ -345,12 +364,14 @@ impl Sandbox {
         let shim = format!(
             r#"#!/usr/bin/env bash
 # cargo for the examples test: paths into the clone are the checkout's paths.
+clone='{clone}'
+repo='{repo}'
 args=()
-for a in "$@"; do args+=("${{a//{clone}/{repo}}}"); done
+for a in "$@"; do args+=("${{a//"$clone"/"$repo"}}"); done
 case " ${{args[*]}} " in
   *" --manifest-path"*) exec "{cargo}" "${{args[@]}}" ;;
 esac
-exec "{cargo}" "${{args[0]}}" --manifest-path "{repo}/Cargo.toml" "${{args[@]:1}}"
+exec "{cargo}" "${{args[0]}}" --manifest-path "$repo/Cargo.toml" "${{args[@]:1}}"
 "#,
             clone = clone.display(),
             repo = repo().display(),
@@ -398,7 +419,9 @@ exec "{cargo}" "${{args[0]}}" --manifest-path "{repo}/Cargo.toml" "${{args[@]:1}
         for e in entries.flatten() {
             let (p, r) = (e.path(), rel.join(e.file_name()));
             let kind = fs::symlink_metadata(&p).unwrap().file_type();
-            if rel.as_os_str().is_empty() && (r == Path::new("target") || r == Path::new(".venv-heyoka")) {
+            if rel.as_os_str().is_empty()
+                && (r == Path::new("target") || r == Path::new(".venv-heyoka"))
+            {
                 continue;
             }
             if kind.is_dir() {
@@ -463,8 +486,14 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
             )),
             _ => script.push_str(&format!("{}\n__s=$?\n", ex.command)),
         }
+        let accepted: Vec<String> = ex
+            .exit
+            .iter()
+            .map(|c| format!("[ $__s -ne {c} ]"))
+            .collect();
         script.push_str(&format!(
-            "if [ $__s -ne 0 ]; then printf '\\n@@failed {k} %s\\n' $__s; exit 97; fi\n"
+            "if {}; then printf '\\n@@failed {k} %s\\n' $__s; exit 97; fi\n",
+            accepted.join(" && ")
         ));
     }
     let log_path = sandbox.root.join("log");
@@ -493,9 +522,7 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
         std::thread::sleep(Duration::from_millis(50));
     }
     let mut text = String::new();
-    let _ = fs::File::open(&log_path)
-        .unwrap()
-        .read_to_string(&mut text);
+    let _ = fs::File::open(&log_path).unwrap().read_to_string(&mut text);
     let mut failures = Vec::new();
     let tail = |text: &str| {
         let lines: Vec<&str> = text.lines().collect();
@@ -614,6 +641,11 @@ fn every_documented_example_runs_as_written() {
 fn extraction_follows_blocks_markers_and_continuations() {
     let md = "text\n```sh\n# a comment\nrsts a \\\n    --x 1\n\n# needs: heyoka\nrsts b\nrsts c\n\n# takes: 2 min\nrsts d\nrsts e\n```\n```text\nrsts not-a-command\n```\n";
     let ex = markdown_examples(md).unwrap();
+    let codes = markdown_examples("```sh\n# exit: 0, 1 (why)\na\nb\n```\n").unwrap();
+    assert_eq!(
+        (codes[0].exit.clone(), codes[1].exit.clone()),
+        (vec![0, 1], vec![0])
+    );
     let summary: Vec<(usize, &str, usize, bool)> = ex
         .iter()
         .map(|e| (e.line, e.command.as_str(), e.needs.len(), e.takes.is_some()))
@@ -628,7 +660,8 @@ fn extraction_follows_blocks_markers_and_continuations() {
             (13, "rsts e", 0, false),
         ]
     );
-    let here = markdown_examples("```sh\npython - <<'PY'\nimport x\n\nprint(1)\nPY\nrsts y\n```\n").unwrap();
+    let here = markdown_examples("```sh\npython - <<'PY'\nimport x\n\nprint(1)\nPY\nrsts y\n```\n")
+        .unwrap();
     assert_eq!(here.len(), 2, "{here:?}");
     assert_eq!(here[0].command, "python - <<'PY'\nimport x\n\nprint(1)\nPY");
     let remark = markdown_examples("```sh\n# needs: slurm, node (why)\nx\n```\n").unwrap();

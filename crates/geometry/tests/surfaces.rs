@@ -403,3 +403,38 @@ fn scene_rolls_the_p_surface_onto_the_pi_surface() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// No shading seams: the shading of every camera's P- and Π-surface (torus 0, the default grid
+/// and view of `rsts surfaces`) has almost no jumps between neighbouring pixels of one sheet.
+/// Measured (fraction of pixel pairs; some are true creases where the immersed torus crosses
+/// itself): at most 0.0067 (I−, Π-surface) with lighting by |n·l|; flipping the normal toward
+/// the viewer, as before, made seams where an interpolated normal turns edge-on: up to 0.0086
+/// (I−, Π) and 0.0033 (V, P; now 0.0018).
+#[test]
+fn surface_pictures_have_no_shading_seams() {
+    use rsts_geometry::render::{auto_view, shading_jumps};
+    let mut worst = (0.0, String::new());
+    for (camera, m, h) in EXAMPLE_POINTS_A1_B05 {
+        let mesh = TorusMesh::new(&motion(m, h, 0), 96, 96).unwrap();
+        for surface in Surface::BOTH {
+            let v = mesh.vertices(surface);
+            let (azimuth_deg, elevation_deg) = auto_view(v);
+            let opts = RenderOptions {
+                azimuth_deg,
+                elevation_deg,
+                ..RenderOptions::default()
+            };
+            let jumps = shading_jumps(v, &mesh.triangles, &opts).unwrap();
+            eprintln!("{camera} {surface:?}: {jumps:.5}");
+            if jumps > worst.0 {
+                worst = (jumps, format!("{camera} {surface:?}"));
+            }
+        }
+    }
+    assert!(
+        worst.0 < 7.5e-3,
+        "shading seams in {}: {:.5}",
+        worst.1,
+        worst.0
+    );
+}

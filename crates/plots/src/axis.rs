@@ -209,7 +209,10 @@ mod tests {
     #[test]
     fn every_decade_is_labelled_when_there_is_room() {
         let (lo, hi) = range(-12.3, -3.2, Scale::Log10);
-        assert!(lo < -13.0 && lo > -13.5 && hi > -3.0 && hi < -2.7, "{lo} {hi}");
+        assert!(
+            lo < -13.0 && lo > -13.5 && hi > -3.0 && hi < -2.7,
+            "{lo} {hi}"
+        );
         let t = ticks(Scale::Log10, lo, hi, 600.0, 40.0);
         let decades: Vec<i32> = t
             .iter()
@@ -230,7 +233,11 @@ mod tests {
             .map(|t| t.at.round() as i32)
             .collect();
         assert_eq!(labelled, (-16..=-4).map(|k| 5 * k).collect::<Vec<_>>());
-        assert_eq!(t.iter().filter(|t| t.major).count(), 63, "a tick per decade");
+        assert_eq!(
+            t.iter().filter(|t| t.major).count(),
+            63,
+            "a tick per decade"
+        );
     }
 
     #[test]

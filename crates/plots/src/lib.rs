@@ -260,10 +260,20 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
     let legend_w = if legend.is_empty() {
         0.0
     } else {
-        40.0 + 6.7 * legend.iter().map(|l| l.0.chars().count()).max().unwrap_or(0) as f64
+        40.0 + 6.7
+            * legend
+                .iter()
+                .map(|l| l.0.chars().count())
+                .max()
+                .unwrap_or(0) as f64
     };
     let (left, top, bottom) = (84.0, 44.0, 58.0);
-    let right = 20.0 + if legend.is_empty() { 0.0 } else { legend_w + 14.0 };
+    let right = 20.0
+        + if legend.is_empty() {
+            0.0
+        } else {
+            legend_w + 14.0
+        };
     let (pw, ph) = (w - left - right, h - top - bottom);
     if pw < 80.0 || ph < 60.0 {
         return Err(PlotError::TooSmall(chart.width, chart.height));
@@ -538,7 +548,12 @@ mod tests {
             Series::new(
                 name,
                 (0..4)
-                    .map(|k| (10f64.powi(-6 - 2 * k) * shift, 1e-3 * (k + 1) as f64 * shift))
+                    .map(|k| {
+                        (
+                            10f64.powi(-6 - 2 * k) * shift,
+                            1e-3 * (k + 1) as f64 * shift,
+                        )
+                    })
                     .collect(),
                 Style::LineMarkers,
             )

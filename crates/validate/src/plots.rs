@@ -80,10 +80,11 @@ pub fn work_precision_chart(case: &str, runs: &[&RunResult]) -> Option<Chart> {
                 Some(d) => format!("{} ({d} digits)", r.method),
                 None => r.method.clone(),
             };
-            by_method
-                .entry(key)
-                .or_default()
-                .push((f.max_state_error, r.timing.integration_seconds, r.rtol));
+            by_method.entry(key).or_default().push((
+                f.max_state_error,
+                r.timing.integration_seconds,
+                r.rtol,
+            ));
         }
     }
     if !by_method.values().any(|v| v.len() >= 2) {
@@ -98,8 +99,12 @@ pub fn work_precision_chart(case: &str, runs: &[&RunResult]) -> Option<Chart> {
                 .iter()
                 .map(|p| p.2.map_or(String::new(), |t| format!("{t:e}")))
                 .collect();
-            Series::new(m, pts.iter().map(|p| (p.0, p.1)).collect(), Style::LineMarkers)
-                .with_point_labels(labels)
+            Series::new(
+                m,
+                pts.iter().map(|p| (p.0, p.1)).collect(),
+                Style::LineMarkers,
+            )
+            .with_point_labels(labels)
         })
         .collect();
     Some(Chart {

@@ -147,7 +147,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("--out: cannot create {}", args.out.display()))?;
-    let view = |verts: &[[f64; 3]]| -> RenderOptions {
+    let view = |verts: &[[f64; 3]], title: Vec<String>| -> RenderOptions {
         let (az, el) = match (args.azimuth, args.elevation) {
             (None, None) => auto_view(verts),
             (az, el) => (az.unwrap_or(35.0), el.unwrap_or(25.0)),
@@ -157,8 +157,12 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             height: args.size,
             azimuth_deg: az,
             elevation_deg: el,
+            title,
+            scale_bar: !args.normalize_axes,
         }
     };
+    // Numbers as in the paper: a true minus sign.
+    let num = |x: f64| format!("{x}").replace('-', "−");
     writeln!(
         out,
         "camera {} (a = {}, b = {}, m = {}, h = {}), {} torus/tori",
@@ -198,11 +202,32 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 let text = ply_text(verts, &mesh.triangles, Some(&mesh.angles), &comment);
                 written.push(write(format!("{stem}.ply"), text.as_bytes())?);
             }
+            let tori = match motion.tori {
+                1 => "1 torus".to_string(),
+                n => format!("{n} tori"),
+            };
+            let mut title = vec![
+                format!(
+                    "{}, camera {}",
+                    surface.title(),
+                    motion.camera.to_string().replace('-', "−")
+                ),
+                format!(
+                    "a = {}, b = {}, m = {}, h = {}, torus {k} ({tori})",
+                    num(args.fields.a),
+                    num(args.fields.b),
+                    num(args.m),
+                    num(args.h),
+                ),
+            ];
+            if args.normalize_axes {
+                title.push("each axis scaled to the same extent".into());
+            }
             let png = if args.normalize_axes {
                 let (v, c) = normalize_axes(verts, curve);
-                render_png(&v, &mesh.triangles, &c, &view(&v))?
+                render_png(&v, &mesh.triangles, &c, &view(&v, title))?
             } else {
-                render_png(verts, &mesh.triangles, curve, &view(verts))?
+                render_png(verts, &mesh.triangles, curve, &view(verts, title))?
             };
             written.push(write(format!("{stem}.png"), &png)?);
         }

@@ -19,7 +19,9 @@ Examples:
   # the CI suite (236 runs, seconds) on all cores: report in out/quick
   rsts validate --suite validation/quick.toml --report out/quick
 
-  # again, with that report as the baseline: exit 1 names every run that regressed
+  # again, with that report as the baseline: exit 1 names every run that regressed (on a busy
+  # machine a run may take 2x longer than in the baseline: a time regression)
+  # exit: 0, 1
   rsts validate --suite validation/quick.toml --report out/quick-again --baseline out/quick/report.json
 
   # the suite in two shards (one per machine of a job array), then their merge
