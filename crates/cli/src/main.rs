@@ -7,6 +7,7 @@
 
 mod args;
 mod commands;
+mod external;
 mod invocation;
 mod output;
 
@@ -16,7 +17,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use commands::{
-    bench, compare, diagram, explicit, inspect, integrate, surfaces, table1, table2, validate,
+    bench, check, compare, diagram, explicit, inspect, integrate, reference, surfaces, table1,
+    table2, validate,
 };
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
@@ -61,6 +63,12 @@ enum Command {
     /// Compare an integrator with the closed form along a motion; optionally log it to MCAP.
     #[command(after_help = compare::EXAMPLES)]
     Compare(compare::Args),
+    /// Check a trajectory computed elsewhere (CSV, JSON, npy, MCAP) against the closed form on N.
+    #[command(after_help = check::EXAMPLES)]
+    Check(check::Args),
+    /// The exact motion on N at any times (H, K, G per row): CSV, JSON or npy.
+    #[command(after_help = reference::EXAMPLES)]
+    Reference(reference::Args),
     /// Summarise an MCAP log of `rsts compare`, or extract one of its series.
     #[command(after_help = inspect::EXAMPLES)]
     Inspect(inspect::Args),
@@ -88,6 +96,8 @@ impl Command {
             Command::Explicit(args) => explicit::run(args, out),
             Command::Diagram(args) => diagram::run(args, out),
             Command::Compare(args) => compare::run(args, out),
+            Command::Check(args) => check::run(args, out),
+            Command::Reference(args) => reference::run(args, out),
             Command::Inspect(args) => inspect::run(args, out),
             Command::Bench(args) => bench::run(args, out),
             Command::Validate(args) => validate::run(args, out),

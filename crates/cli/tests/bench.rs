@@ -1,8 +1,7 @@
-//! `rsts bench` as a user runs it: JSON rows, the work–precision SVG, a peer's rows, the
-//! reference file for the peer, and bad input. Short runs (T = 10, two tolerances).
+//! `rsts bench` as a user runs it: JSON rows, the work–precision SVG and bad input. Short runs
+//! (T = 10, two tolerances). External integrators (`--exec`): tests/external.rs.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
@@ -122,7 +121,10 @@ fn svg_has_one_line_per_method() {
     }
     assert_eq!(svg.matches("<polyline").count(), 3, "one line per method");
     assert_eq!(svg.matches("<circle").count(), 6, "one marker per row");
-    assert!(!svg.contains("stroke-dasharray"), "no peer, no dashes");
+    assert!(
+        !svg.contains("stroke-dasharray"),
+        "no external integrator, no dashes"
+    );
     assert!(svg.contains(r#"class="tick x" data-v="1e-"#), "log axes");
     for tol in ["1e-6", "1e-10"] {
         assert_eq!(
@@ -132,96 +134,6 @@ fn svg_has_one_line_per_method() {
         );
     }
     assert!(String::from_utf8_lossy(&out.stdout).contains("max error"));
-}
-
-fn peer_file(name: &str, text: &str) -> String {
-    let path = tmp(name);
-    std::fs::write(&path, text).unwrap();
-    path.to_str().unwrap().to_string()
-}
-
-#[test]
-fn peer_rows_are_merged_dashed_and_prefixed() {
-    let peer = peer_file(
-        "peer.json",
-        r#"{"rows": [
-          {"method": "heyoka-f64", "tolerance": 1e-6, "max_error": 3e-7, "integration_seconds": 2e-4, "steps": 90, "rhs_evals": 900},
-          {"method": "heyoka-f64", "tolerance": 1e-11, "max_error": 4e-12, "integration_seconds": 4e-4, "steps": 95, "rhs_evals": 1300},
-          {"method": "real128", "tolerance": 1e-6, "max_error": 2e-7, "integration_seconds": 5e-3, "steps": 90, "rhs_evals": 900},
-          {"method": "real128", "tolerance": 1e-11, "max_error": 1e-12, "integration_seconds": 1e-2, "steps": 95, "rhs_evals": 1300}
-        ]}"#,
-    );
-    let doc = bench_json(&[
-        "--methods",
-        "taylor-f64",
-        "--tolerances",
-        "1e-6,1e-11",
-        "--peer",
-        &peer,
-    ]);
-    assert_eq!(rows(&doc).len(), 6);
-    let h = rows_of(&doc, "heyoka-f64");
-    assert_eq!(h.len(), 2);
-    assert_eq!(h[1]["max_error"], 4e-12);
-    assert_eq!(h[1]["steps"], 95);
-    assert_eq!(rows_of(&doc, "heyoka-real128").len(), 2, "prefixed");
-
-    let path = tmp("wp-peer.svg");
-    let out = bench(&[
-        "--methods",
-        "taylor-f64",
-        "--tolerances",
-        "1e-6,1e-11",
-        "--peer",
-        &peer,
-        "--svg",
-        path.to_str().unwrap(),
-    ]);
-    assert!(out.status.success());
-    let table = String::from_utf8(out.stdout).unwrap();
-    assert!(table.contains("heyoka-f64") && table.contains("taylor-f64"));
-    let svg = std::fs::read_to_string(&path).unwrap();
-    assert_eq!(svg.matches(r#"class="series""#).count(), 3);
-    // Two dashed peer lines, plus their two legend entries.
-    assert_eq!(svg.matches("stroke-dasharray").count(), 4);
-}
-
-#[test]
-fn malformed_peer_files_are_clear_errors() {
-    let cases = [
-        ("not-json.json", "{rows: oops", "not valid JSON"),
-        ("no-rows.json", r#"{"data": []}"#, "rows"),
-        ("empty.json", r#"{"rows": []}"#, "empty"),
-        (
-            "missing.json",
-            r#"{"rows": [{"method": "f64", "tolerance": 1e-8, "integration_seconds": 1, "steps": 1, "rhs_evals": 1}]}"#,
-            "row 1: \"max_error\"",
-        ),
-        (
-            "negative.json",
-            r#"{"rows": [{"method": "f64", "tolerance": 1e-8, "max_error": 1e-9, "integration_seconds": -1, "steps": 1, "rhs_evals": 1}]}"#,
-            "integration_seconds",
-        ),
-        (
-            "steps.json",
-            r#"{"rows": [{"method": "f64", "tolerance": 1e-8, "max_error": 1e-9, "integration_seconds": 1, "steps": 1.5, "rhs_evals": 1}]}"#,
-            "\"steps\"",
-        ),
-    ];
-    for (name, text, expect) in cases {
-        let peer = peer_file(name, text);
-        let out = bench(&["--tolerances", "1e-6", "--peer", &peer]);
-        let err = exit_2(&out, name);
-        assert!(
-            err.starts_with("error: --peer") && err.contains(expect),
-            "{name}: {err}"
-        );
-        assert!(!err.contains("panicked"), "{name}: {err}");
-        assert!(out.stdout.is_empty(), "{name}: no table on error");
-    }
-    let out = bench(&["--peer", tmp("does-not-exist.json").to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read"));
 }
 
 #[test]
@@ -264,68 +176,6 @@ fn taylor_mp_digits_default_to_the_smallest_tolerance_plus_ten() {
 }
 
 #[test]
-fn reference_file_has_the_closed_form_states_at_the_sample_times() {
-    let path = tmp("ref.json");
-    let out = rsts(&[
-        "bench",
-        "--t-end",
-        "2",
-        "--samples",
-        "5",
-        "--reference-digits",
-        "40",
-        "--write-reference",
-        path.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-    assert_eq!(doc["format"], "rsts-reference-1");
-    let times: Vec<f64> = doc["times"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|t| t.as_str().unwrap().parse().unwrap())
-        .collect();
-    assert_eq!(times, [0.0, 0.5, 1.0, 1.5, 2.0]);
-    let states = doc["states"].as_array().unwrap();
-    assert_eq!(states.len(), 5);
-    // The same states as `rsts explicit` at 40 digits (to its printed precision).
-    let explicit = rsts(&[
-        "explicit",
-        "--t-end",
-        "2",
-        "--samples",
-        "5",
-        "--digits",
-        "40",
-        "--format",
-        "json",
-    ]);
-    assert!(explicit.status.success());
-    let ex: Value = serde_json::from_slice(&explicit.stdout).unwrap();
-    for (k, s) in states.iter().enumerate() {
-        let s = s.as_array().unwrap();
-        assert_eq!(s.len(), 9);
-        let sample = &ex["samples"][k];
-        let want: Vec<&Value> = ["omega", "alpha", "beta"]
-            .iter()
-            .flat_map(|v| sample[v].as_array().unwrap())
-            .collect();
-        for (x, y) in s.iter().zip(want) {
-            let x = x.as_str().unwrap();
-            let y = y.as_str().unwrap();
-            let (xs, (x, y)): (&str, (f64, f64)) = (x, (x.parse().unwrap(), y.parse().unwrap()));
-            assert!(x == 0.0 || xs.len() >= 40, "{xs}: too few digits");
-            assert!((x - y).abs() <= 1e-15, "sample {k}: {x} vs {y}");
-        }
-    }
-}
-
-#[test]
 fn bad_input_is_rejected_with_exit_2() {
     for args in [
         &["--tolerances", "0"][..],
@@ -342,55 +192,6 @@ fn bad_input_is_rejected_with_exit_2() {
         let err = exit_2(&out, args);
         assert!(err.contains("error"), "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{args:?}: {err}");
-    }
-}
-
-/// The real peer: `scripts/peer_heyoka.py` reads our reference file and writes rows that
-/// `--peer` accepts, with heyoka's errors as small as ours. Needs heyoka
-/// (`scripts/install_heyoka.sh`; `$RSTS_HEYOKA_PYTHON` or `.venv-heyoka/bin/python`):
-/// `cargo test -p rsts-cli --release --test bench -- --ignored`.
-#[test]
-#[ignore = "needs heyoka (scripts/install_heyoka.sh)"]
-fn heyoka_peer_rows_round_trip() {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let python = std::env::var_os("RSTS_HEYOKA_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join(".venv-heyoka/bin/python"));
-    let reference = tmp("heyoka-ref.json");
-    let rows = tmp("heyoka-rows.json");
-    let out = bench(&["--write-reference", reference.to_str().unwrap()]);
-    assert!(out.status.success());
-    let peer = Command::new(&python)
-        .arg(root.join("scripts/peer_heyoka.py"))
-        .args(["compare", reference.to_str().unwrap()])
-        .args(["--methods", "f64,real128", "--tolerances", "1e-8,1e-14"])
-        .args(["--repeats", "1", "--out", rows.to_str().unwrap()])
-        .output()
-        .expect("run python");
-    assert!(
-        peer.status.success(),
-        "{}",
-        String::from_utf8_lossy(&peer.stderr)
-    );
-    let doc = bench_json(&[
-        "--methods",
-        "taylor-f64",
-        "--tolerances",
-        "1e-8,1e-14",
-        "--peer",
-        rows.to_str().unwrap(),
-    ]);
-    let h = rows_of(&doc, "heyoka-f64");
-    let ours = rows_of(&doc, "taylor-f64");
-    assert_eq!((h.len(), ours.len()), (2, 2));
-    assert_eq!(rows_of(&doc, "heyoka-real128").len(), 2);
-    for (a, b) in h.iter().zip(&ours) {
-        let (ea, eb) = (
-            a["max_error"].as_f64().unwrap(),
-            b["max_error"].as_f64().unwrap(),
-        );
-        assert!(ea > 0.0 && ea < 100.0 * eb && eb < 100.0 * ea, "{a} {b}");
-        assert_eq!(a["steps"], b["steps"], "same Jorba–Zou steps");
     }
 }
 

@@ -295,10 +295,12 @@ fn tool_available(tool: &str) -> bool {
             .is_ok_and(|s| s.success())
     };
     match tool {
-        "heyoka" => ok(
-            &repo().join(".venv-heyoka/bin/python").to_string_lossy(),
-            &["-c", "import heyoka"],
-        ),
+        "heyoka" => [".venv-adapters", ".venv-heyoka"].iter().any(|venv| {
+            ok(
+                &repo().join(venv).join("bin/python").to_string_lossy(),
+                &["-c", "import heyoka"],
+            )
+        }),
         "scipy" => ok("python3", &["-c", "import scipy"]),
         "node" => ok("node", &["--version"]),
         "chromium" => ok("chromium", &["--version"]),
@@ -352,9 +354,10 @@ impl Sandbox {
         let bin = PathBuf::from(env!("CARGO_BIN_EXE_rsts"));
         let target = bin.parent().unwrap().parent().unwrap();
         std::os::unix::fs::symlink(target, clone.join("target")).unwrap();
-        if repo().join(".venv-heyoka").is_dir() {
-            std::os::unix::fs::symlink(repo().join(".venv-heyoka"), clone.join(".venv-heyoka"))
-                .unwrap();
+        for venv in VENVS {
+            if repo().join(venv).is_dir() {
+                std::os::unix::fs::symlink(repo().join(venv), clone.join(venv)).unwrap();
+            }
         }
         // `rsts` on the PATH; `cargo` builds this checkout (the clone's sources are its files).
         let shims = root.join("bin");

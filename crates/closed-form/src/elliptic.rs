@@ -99,6 +99,40 @@ impl<T: Real> EllipticModulus<T> {
         (sn, cn, dn)
     }
 
+    /// The inverse of [`Self::sn_cn_dn`]: the u ∈ [0, 4K) with (sn u, cn u) = (s, c)/√(s² + c²).
+    /// The amplitude φ = am u ∈ [0, π/2] of the first quarter goes through the descending
+    /// Landen transformation of the same AGM, tan(φₙ₊₁ − φₙ) = (bₙ/aₙ) tan φₙ, and
+    /// F(φ) = φ_N/(2^N a_N) (DLMF 19.8.12 with 22.20(ii)); the other quarters by symmetry.
+    pub fn u_of(&self, s: &T, c: &T) -> T {
+        let zero = s.zero_like();
+        let pi = T::pi(s.prec());
+        let two_k = self.big_k.clone() * s.lit(2.0);
+        // φ ∈ [0, π/2] from |s|, |c|, then u = F(φ), 2K − F, 2K + F or 4K − F by quadrant.
+        let phi = s.abs().atan2(&c.abs());
+        let f = self.incomplete(&phi, &pi);
+        match (*s >= zero, *c >= zero) {
+            (true, true) => f,
+            (true, false) => two_k - f,
+            (false, false) => two_k + f,
+            (false, true) => two_k.clone() + two_k - f,
+        }
+    }
+
+    /// F(φ | k) for φ ∈ [0, π/2].
+    fn incomplete(&self, phi: &T, pi: &T) -> T {
+        let n = self.a.len() - 1;
+        let two_pi = pi.clone() * phi.lit(2.0);
+        let mut phi = phi.clone();
+        for i in 0..n {
+            // atan2 lands in the quadrant of φₙ (aₙ, bₙ > 0); add the turns φₙ has made.
+            let t = (self.b[i].clone() * phi.sin()).atan2(&(self.a[i].clone() * phi.cos()));
+            let turns = ((phi.clone() - &t) / &two_pi + phi.lit(0.5)).floor();
+            phi = phi.clone() + t + turns * &two_pi;
+        }
+        let scale = self.a[n].clone() * phi.lit(2f64.powi(n as i32));
+        phi / scale
+    }
+
     /// The descending Landen transformation: φ_N = 2^N a_N u, φ_{n−1} = (φ_n + asin(c_n/a_n sin φ_n))/2.
     fn landen(&self, u: &T) -> (T, T, T) {
         let n = self.a.len() - 1;
@@ -145,6 +179,32 @@ mod tests {
                 assert!((fd - c * d).abs() < 1e-50);
             }
         }
+    }
+
+    #[test]
+    fn u_of_inverts_sn_cn_in_every_quarter() {
+        for &k2 in &[0.0, 1e-12, 0.3, 0.9, 1.0 - 1e-9] {
+            let m = EllipticModulus::new(f(k2), f(1.0) - f(k2));
+            let four_k = m.big_k.clone() * f(4.0);
+            for frac in [
+                0.0, 0.01, 0.2, 0.25, 0.49, 0.5, 0.51, 0.74, 0.75, 0.9, 0.999,
+            ] {
+                let u = four_k.clone() * f(frac);
+                let (s, c, _) = m.sn_cn_dn(&u);
+                let back = m.u_of(&s, &c);
+                assert!(
+                    (back.clone() - &u).abs() < 1e-80,
+                    "k2={k2} u/4K={frac}: {back} vs {u}"
+                );
+            }
+        }
+        // A wrong quadrant is not silently accepted: (sn, −cn) is another u.
+        let m = EllipticModulus::new(f(0.3), f(0.7));
+        let (s, c, _) = m.sn_cn_dn(&f(0.4));
+        assert!((m.u_of(&s, &(-c)) - f(0.4)).abs() > 1.0);
+        let m64 = EllipticModulus::new(0.5f64, 0.5);
+        let (s, c, _) = m64.sn_cn_dn(&2.5);
+        assert!((m64.u_of(&s, &c) - 2.5).abs() < 1e-14);
     }
 
     #[test]

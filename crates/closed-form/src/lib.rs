@@ -13,6 +13,7 @@ pub mod diagram;
 pub mod elliptic;
 pub mod error;
 pub mod formulas;
+pub mod manifold;
 pub mod motion;
 pub mod roots;
 pub mod scalar;

@@ -169,7 +169,13 @@ impl<T: Scalar> ExplicitMotion<T> {
 
 impl<T: Real> ExplicitMotion<T> {
     /// The motion computed directly in T, without guard digits.
-    fn build(a: T, b: T, m: T, h: T, choice: TorusChoice) -> Result<Self, ClosedFormError> {
+    pub(crate) fn build(
+        a: T,
+        b: T,
+        m: T,
+        h: T,
+        choice: TorusChoice,
+    ) -> Result<Self, ClosedFormError> {
         for (name, v) in [("phase1", choice.phase1), ("phase2", choice.phase2)] {
             if !v.is_finite() {
                 return Err(ClosedFormError::Parameters(format!(

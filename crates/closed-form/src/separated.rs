@@ -325,6 +325,55 @@ impl<T: Real> SeparatedVariable<T> {
         (self.lambda_v.clone(), self.mu_v.clone())
     }
 
+    /// The inverse of [`Self::eval`]: the parameter u ∈ [0, period_u) of the point (v, F, G), or
+    /// `None` when a constant sign of the point differs from this torus's (the point lies on
+    /// another torus). v is clamped to the segment; a radical's sign is read as + at 0.
+    ///
+    /// sn² u = L_κ(μ)(v − λ)/(L_κ(μ)(v − λ) + L_κ(λ)(μ − v)) and cn² u = 1 − sn² u invert the
+    /// positive-weight average of [`Self::eval`]; the signs of sn and cn are those of the radicals
+    /// that vanish at λ and at μ, divided by their constant signs σ.
+    pub fn u_of(&self, p: &SeparatedPoint<T>) -> Option<T> {
+        let zero = p.v.zero_like();
+        let v =
+            p.v.clone()
+                .max_of(self.lambda_v.clone())
+                .min_of(self.mu_v.clone());
+        let wl = self.lk_mu.clone() * (v.clone() - &self.lambda_v);
+        let wm = self.lk_lambda.clone() * (self.mu_v.clone() - &v);
+        let den = wl.clone() + &wm;
+        let sn_abs = (wl / &den).abs().sqrt();
+        let cn_abs = (wm / &den).abs().sqrt();
+        let sign = |x: &T| x.to_f64() >= 0.0;
+        let mut sn_positive = true;
+        let mut cn_positive = true;
+        for (shape, value) in self.shapes.iter().zip([&p.f, &p.g]) {
+            let s = sign(value) == sign(&shape.sigma);
+            let has_lambda = shape
+                .factors
+                .iter()
+                .any(|x| matches!(x, Factor::Lambda { .. }));
+            let has_mu = shape.factors.iter().any(|x| matches!(x, Factor::Mu { .. }));
+            match (has_lambda, has_mu) {
+                (true, false) => sn_positive = s,
+                (false, true) => cn_positive = s,
+                // Both turning points in this radical: it carries sn·cn; take sn ≥ 0 (the state
+                // has period 2K in u).
+                (true, true) => cn_positive = s,
+                (false, false) => {
+                    if !s {
+                        return None;
+                    }
+                }
+            }
+        }
+        let sn = if sn_positive { sn_abs } else { -sn_abs };
+        let cn = if cn_positive { cn_abs } else { -cn_abs };
+        let u = self.modulus.u_of(&sn, &cn);
+        let period = self.period_u();
+        let u = if u >= period { u - &period } else { u };
+        Some(u.max_of(zero))
+    }
+
     /// v, F, G at a point of the parametrisation given by sn u and cn u, in any scalar `S` that
     /// embeds `T` (e.g. dual numbers for derivatives along the flow).
     pub fn eval<S: Real + From<T>>(&self, sn: &S, cn: &S) -> SeparatedPoint<S> {

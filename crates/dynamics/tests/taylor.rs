@@ -386,7 +386,7 @@ fn compensated_summation_lowers_the_f64_error_floor() {
 }
 
 /// Cross-check against an external reference trajectory (format `rsts-reference-1`, see
-/// scripts/peer_heyoka.py; e.g. one written by heyoka in MPFR):
+/// scripts/heyoka_reference.py, which writes one with heyoka in MPFR):
 /// `RSTS_REFERENCE=ref.json cargo test -p rsts-dynamics --release --test taylor -- --ignored`.
 /// Runs taylor-mp at 50 digits and taylor-f64 at 1e-15 from the file's initial state (parsed at
 /// 300 bits) and requires agreement to 1e-40 and 1e-13 at every sample.

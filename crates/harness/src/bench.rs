@@ -1,35 +1,40 @@
-//! Work–precision measurement (issue 5): one method at one tolerance, its largest state error
-//! against the closed form and what it cost.
+//! Work–precision measurement (issue 5): one integrator at one tolerance, its largest state
+//! error against the closed form and what it cost.
 //!
-//! Unlike [`crate::compare`], a measurement integrates the whole grid in ONE call of
-//! [`MethodConfig::propagate_mp`] (no pieces, no restarts: the cost is the integrator's alone),
+//! Unlike [`crate::compare()`], a measurement integrates the whole grid in ONE call of
+//! [`Integrator::integrate`] (no pieces, no restarts: the cost is the integrator's alone),
 //! repeats it `repeats` times and keeps the median of the integrator's own
 //! `stats.integration_seconds`. The closed form is evaluated once per [`Reference`], at
-//! [`reference_bits`] of the method (64 bits beyond it), and reused across repeats and
-//! tolerances.
+//! [`reference_bits_for`] the integrator's precision (64 bits beyond it), and reused across
+//! repeats, tolerances and integrators.
 
-use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Solution};
-use rsts_dynamics::{DynamicsError, Fields, State};
+use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem};
+use rsts_dynamics::{Fields, State};
 use rug::Float;
 use serde::{Deserialize, Serialize};
 
 use crate::case::Case;
-use crate::compare::reference_bits;
+use crate::compare::{reference_bits, reference_bits_for};
+use crate::integrator::{Integrator, Trajectory};
 use crate::metrics::exact_state;
 use crate::HarnessError;
 
-/// One line of a work–precision table: the JSON row of `rsts bench` and of
-/// `scripts/peer_heyoka.py`.
+/// One line of a work–precision table: the JSON row of `rsts bench`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BenchRow {
     pub method: String,
     pub tolerance: f64,
     /// max over samples and the nine components (ω, α, β) of |x − x_exact|.
     pub max_error: f64,
-    /// Median over the repeats of the integrator's own wall time.
+    /// Median over the repeats of the integrator's own time (an external integrator's
+    /// `integration_seconds` when it reports one, else its wall time).
     pub integration_seconds: f64,
     pub steps: u64,
     pub rhs_evals: u64,
+    /// Median over the repeats of the wall time measured around an external integrator
+    /// (process start-up included); absent for in-process integrators.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_seconds: Option<f64>,
 }
 
 /// The closed-form motion of a case at its sample times, at a given precision.
@@ -37,6 +42,7 @@ pub struct BenchRow {
 pub struct Reference {
     bits: u32,
     grid: OutputGrid,
+    times: Vec<f64>,
     fields: Fields<Float>,
     states: Vec<State<Float>>,
 }
@@ -48,12 +54,15 @@ impl Reference {
         let f = |x: f64| Float::with_val(bits, x);
         let (motion, fields) = case.reference_motion(bits)?;
         let grid = OutputGrid::new(case.t_end, case.samples)?;
-        let states = (0..grid.samples)
-            .map(|k| exact_state(&motion.at(&f(grid.time(k)))))
+        let times = grid.times();
+        let states = times
+            .iter()
+            .map(|&t| exact_state(&motion.at(&f(t))))
             .collect();
         Ok(Self {
             bits,
             grid,
+            times,
             fields,
             states,
         })
@@ -66,6 +75,11 @@ impl Reference {
 
     pub fn grid(&self) -> &OutputGrid {
         &self.grid
+    }
+
+    /// The sample times (the grid's, from 0).
+    pub fn times(&self) -> &[f64] {
+        &self.times
     }
 
     pub fn fields(&self) -> &Fields<Float> {
@@ -124,23 +138,36 @@ pub fn measure(
     measure_against(&reference, config, repeats)
 }
 
-/// Measure `config` against an already evaluated reference (which must carry at least
-/// [`reference_bits`]`(config)` bits): `repeats` (≥ 1) un-chunked runs over the whole grid.
-/// The error, steps and evaluations are those of the first run (the runs are deterministic);
-/// the time is the median over the runs.
+/// Measure the built-in method `config` against an already evaluated reference (see
+/// [`measure_integrator`]); the row's tolerance is min(rtol, atol).
 pub fn measure_against(
     reference: &Reference,
     config: &MethodConfig,
     repeats: usize,
 ) -> Result<BenchRow, HarnessError> {
+    let mut config = *config;
+    measure_integrator(reference, &mut config, repeats)
+}
+
+/// Measure any integrator against an already evaluated reference (which must carry at least
+/// [`reference_bits_for`] the integrator's bits): `repeats` (≥ 1) un-chunked runs over the
+/// whole grid. The error, steps and evaluations are those of the first run (the runs are
+/// deterministic); the times are medians over the runs. The row is named after the
+/// integrator; its tolerance is min(rtol, atol) (NaN for an integrator without tolerances).
+pub fn measure_integrator(
+    reference: &Reference,
+    integrator: &mut dyn Integrator,
+    repeats: usize,
+) -> Result<BenchRow, HarnessError> {
     if repeats == 0 {
         return Err(HarnessError::Case("repeats must be at least 1".into()));
     }
-    let needed = reference_bits(config);
+    let needed = reference_bits_for(integrator.working_bits());
     if reference.bits < needed {
         return Err(HarnessError::Case(format!(
             "the reference has {} bits, {} needs {needed}",
-            reference.bits, config.method
+            reference.bits,
+            integrator.name()
         )));
     }
     let problem = Problem {
@@ -148,36 +175,41 @@ pub fn measure_against(
         initial: reference.states[0].clone(),
     };
     let mut row = summarize(reference, repeats, || {
-        config.propagate_mp(&problem, &reference.grid)
+        integrator.integrate(&problem, &reference.times)
     })?;
-    row.method = config.method.as_str().to_string();
-    row.tolerance = config.tolerances.rtol.min(config.tolerances.atol);
+    row.method = integrator.name();
+    row.tolerance = integrator
+        .tolerances()
+        .map_or(f64::NAN, |t| t.rtol.min(t.atol));
     Ok(row)
 }
 
-/// Run `run` `repeats` times: error, steps and evaluations of the first run, median time.
+/// Run `run` `repeats` times: error, steps and evaluations of the first run, median times.
 fn summarize(
     reference: &Reference,
     repeats: usize,
-    mut run: impl FnMut() -> Result<Solution<Float>, DynamicsError>,
+    mut run: impl FnMut() -> Result<Trajectory, HarnessError>,
 ) -> Result<BenchRow, HarnessError> {
     let mut seconds = Vec::with_capacity(repeats);
+    let mut walls = Vec::with_capacity(repeats);
     let mut first = None;
     for _ in 0..repeats {
-        let sol = run()?;
-        seconds.push(sol.stats.integration_seconds);
+        let traj = run()?;
+        seconds.push(traj.stats.integration_seconds);
+        walls.extend(traj.wall_seconds);
         if first.is_none() {
-            first = Some(sol);
+            first = Some(traj);
         }
     }
-    let sol = first.ok_or_else(|| HarnessError::Case("repeats must be at least 1".into()))?;
+    let traj = first.ok_or_else(|| HarnessError::Case("repeats must be at least 1".into()))?;
     Ok(BenchRow {
-        method: sol.method.to_string(),
+        method: String::new(),
         tolerance: f64::NAN,
-        max_error: max_state_error(&reference.states, &sol.states)?,
+        max_error: max_state_error(&reference.states, &traj.states)?,
         integration_seconds: median(&seconds),
-        steps: sol.stats.accepted_steps,
-        rhs_evals: sol.stats.rhs_evals,
+        steps: traj.stats.accepted_steps,
+        rhs_evals: traj.stats.rhs_evals,
+        wall_seconds: (!walls.is_empty()).then(|| median(&walls)),
     })
 }
 
@@ -313,9 +345,8 @@ mod tests {
             k += 1;
             let mut states = reference.states().to_vec();
             states[2].alpha[1] += 1e-30 * k as f64;
-            Ok(Solution {
-                method: "fake",
-                times: reference.grid().times(),
+            Ok(Trajectory {
+                times: reference.times().to_vec(),
                 states,
                 stats: Stats {
                     accepted_steps: 10 * k as u64,
@@ -323,11 +354,13 @@ mod tests {
                     rhs_evals: 100 * k as u64,
                     integration_seconds: seconds,
                 },
+                wall_seconds: Some(2.0 * seconds),
             })
         })
         .unwrap();
         assert_eq!(k, 5, "every repeat runs");
         assert_eq!(row.integration_seconds, 2.0);
+        assert_eq!(row.wall_seconds, Some(4.0));
         assert_eq!(
             (row.steps, row.rhs_evals),
             (10, 100),

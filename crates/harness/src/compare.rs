@@ -1,143 +1,115 @@
-//! The comparison loop.
+//! Compare = produce a trajectory with an integrator + analyse it against the closed form.
 
-use rsts_closed_form::ExplicitMotion;
-use rsts_dynamics::integrals::integrals;
 use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem};
-use rsts_dynamics::scalar::{bits_for_digits, digits_for_bits};
-use rsts_dynamics::{Fields, State};
+use rsts_dynamics::scalar::bits_for_digits;
 use rug::Float;
 
+use crate::analysis::{Analysis, Observer, RunInfo};
 use crate::case::Case;
-use crate::metrics::{exact_state, sample_errors, Drift, ManifoldN, Report, SampleRecord};
+use crate::integrator::Integrator;
+use crate::metrics::Report;
 use crate::HarnessError;
 
 /// Bits the closed-form reference carries beyond the integrator's scalar.
 pub const REFERENCE_GUARD_BITS: u32 = 64;
 
-/// At most this many restarts of the integrator per run: the grid is integrated in pieces so a
-/// run can report progress and be stopped between pieces.
-const MAX_PIECES: usize = 64;
+/// Default for [`CompareOptions::pieces`].
+pub const DEFAULT_PIECES: usize = 64;
 
-/// Receives the samples of a comparison as they are computed.
-pub trait Observer {
-    /// Called once per sample, in time order.
-    fn on_sample(&mut self, _record: &SampleRecord) -> Result<(), String> {
-        Ok(())
-    }
-    /// Checked between pieces of the integration: true stops the run (the report then has
-    /// `complete: false`).
-    fn should_stop(&self) -> bool {
-        false
-    }
+/// How a comparison runs the integrator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CompareOptions {
+    /// At most this many calls of a restartable integrator per run: the grid is integrated in
+    /// pieces, each restarting from the last state of the previous one, so a run reports
+    /// progress and can be stopped between pieces. 1: one uninterrupted call over the whole
+    /// grid (as `rsts integrate` and `rsts bench` run).
+    pub pieces: usize,
 }
 
-/// An observer that does nothing.
-pub struct NoObserver;
-impl Observer for NoObserver {}
-
-/// What every sample is compared against.
-struct Context<'a> {
-    motion: &'a ExplicitMotion<Float>,
-    fields: &'a Fields<Float>,
-    n: &'a ManifoldN,
-    initial_integrals: &'a [Float; 3],
-}
-
-impl Context<'_> {
-    fn emit(
-        &self,
-        observer: &mut dyn Observer,
-        index: usize,
-        t: &Float,
-        state: &State<Float>,
-        report: &mut Report,
-    ) -> Result<(), HarnessError> {
-        let exact = exact_state(&self.motion.at(t));
-        let (errors, ex, int) =
-            sample_errors(self.fields, self.n, self.initial_integrals, &exact, state);
-        report.absorb(&errors);
-        observer
-            .on_sample(&SampleRecord {
-                index,
-                t: t.to_f64(),
-                exact: ex,
-                integrated: int,
-                errors,
-            })
-            .map_err(HarnessError::Observer)
+impl Default for CompareOptions {
+    fn default() -> Self {
+        Self {
+            pieces: DEFAULT_PIECES,
+        }
     }
 }
 
 /// Bits of the closed-form reference for a method.
 pub fn reference_bits(config: &MethodConfig) -> u32 {
-    config.working_bits().max(bits_for_digits(30)) + REFERENCE_GUARD_BITS
+    reference_bits_for(config.working_bits())
 }
 
-/// Compare `config` with the closed form along `case`.
+/// Bits of the closed-form reference for an integrator computing in `working_bits`.
+pub fn reference_bits_for(working_bits: u32) -> u32 {
+    working_bits.max(bits_for_digits(30)) + REFERENCE_GUARD_BITS
+}
+
+/// What a report says about an integrator.
+pub fn run_info(integrator: &dyn Integrator) -> RunInfo {
+    let tol = integrator.tolerances();
+    RunInfo {
+        method: integrator.name(),
+        rtol: tol.map(|t| t.rtol),
+        atol: tol.map(|t| t.atol),
+        digits: integrator.digits(),
+    }
+}
+
+/// Compare the built-in method `config` with the closed form along `case`.
 pub fn compare(
     case: &Case,
     config: &MethodConfig,
     observer: &mut dyn Observer,
 ) -> Result<Report, HarnessError> {
-    let bits = reference_bits(config);
-    let f = |x: f64| Float::with_val(bits, x);
-    let (motion, fields) = case.reference_motion(bits)?;
-    let c = &motion.constants;
-    let r4 = c.r2.clone() * &c.r2;
-    let n = ManifoldN {
-        k: r4.clone() * &c.m * &c.m,
-        p2: c.p2.clone(),
-        r4m: r4 * &c.m,
-    };
-    let grid = OutputGrid::new(case.t_end, case.samples)?;
-    let start = exact_state(&motion.at(&f(0.0)));
-    let i0 = integrals(&fields, &start);
-    let initial_integrals = [i0.h, i0.k, i0.g];
-    let mut report = Report {
-        method: config.method.as_str().to_string(),
-        rtol: config.tolerances.rtol,
-        atol: config.tolerances.atol,
-        digits: digits_for_bits(config.working_bits()),
-        reference_digits: digits_for_bits(bits),
-        camera: motion.camera.label().to_string(),
-        samples_compared: 0,
-        complete: true,
-        max_state_error: 0.0,
-        final_state_error: 0.0,
-        max_orientation_error: 0.0,
-        drift: Drift::default(),
-        steps: 0,
-        rejected_steps: 0,
-        rhs_evals: 0,
-        integration_seconds: 0.0,
-    };
-    let ctx = Context {
-        motion: &motion,
-        fields: &fields,
-        n: &n,
-        initial_integrals: &initial_integrals,
-    };
-    if case.samples == 1 || case.t_end == 0.0 {
-        // No time passes: every sample is the start, rounded to the method's scalar.
-        let sol = config.propagate_mp(
-            &Problem {
-                fields: fields.clone(),
-                initial: start,
-            },
-            &grid,
-        )?;
-        report.add_stats(&sol.stats);
-        for (k, s) in sol.states.iter().enumerate() {
-            ctx.emit(observer, k, &f(0.0), s, &mut report)?;
-        }
-        return Ok(report);
+    let mut config = *config;
+    compare_integrator(case, &mut config, &CompareOptions::default(), observer)
+}
+
+/// Compare any integrator with the closed form along `case`: start it from the exact state at
+/// t = 0, integrate through the case's N evenly spaced times (in pieces when the integrator is
+/// restartable), and analyse every sample as it comes.
+pub fn compare_integrator(
+    case: &Case,
+    integrator: &mut dyn Integrator,
+    options: &CompareOptions,
+    observer: &mut dyn Observer,
+) -> Result<Report, HarnessError> {
+    if options.pieces == 0 {
+        return Err(HarnessError::Case("pieces must be at least 1".into()));
     }
-    let pieces = (case.samples - 1).min(MAX_PIECES);
+    let bits = reference_bits_for(integrator.working_bits());
+    let f = |x: f64| Float::with_val(bits, x);
+    let mut analysis = Analysis::for_case(case, bits, run_info(integrator))?;
+    let grid = OutputGrid::new(case.t_end, case.samples)?;
+    let start = analysis.exact_state(&f(0.0));
+    let fields = analysis.fields().clone();
+    if case.samples == 1 || case.t_end == 0.0 {
+        // No time passes: every sample is the start, rounded to the integrator's scalar.
+        let problem = Problem {
+            fields,
+            initial: start,
+        };
+        let traj = integrator.integrate(&problem, &[0.0])?;
+        analysis.rename(integrator.name());
+        analysis.add_stats(&traj.stats);
+        if let Some(w) = traj.wall_seconds {
+            analysis.add_wall_seconds(w);
+        }
+        for s in &traj.states {
+            analysis.sample(&f(0.0), s, observer)?;
+        }
+        return Ok(analysis.finish());
+    }
+    let pieces = if integrator.restartable() {
+        (case.samples - 1).min(options.pieces)
+    } else {
+        1
+    };
     let mut state = start;
     let mut t0 = f(0.0);
     for piece in 0..pieces {
         if observer.should_stop() {
-            report.complete = false;
+            analysis.mark_incomplete();
             break;
         }
         let first = piece * (case.samples - 1) / pieces;
@@ -148,17 +120,34 @@ pub fn compare(
             fields: fields.clone(),
             initial: state.clone(),
         };
-        let sol = config.propagate_mp(&problem, &local)?;
-        report.add_stats(&sol.stats);
-        for (j, (t, s)) in sol.times.iter().zip(&sol.states).enumerate() {
+        let traj = integrator.integrate(&problem, &local.times())?;
+        // An external integrator may name itself in its answer.
+        analysis.rename(integrator.name());
+        if traj.states.len() != local.samples || traj.times.len() != local.samples {
+            return Err(HarnessError::Case(format!(
+                "{} returned {} states for {} sample times",
+                integrator.name(),
+                traj.states.len(),
+                local.samples
+            )));
+        }
+        analysis.add_stats(&traj.stats);
+        if let Some(w) = traj.wall_seconds {
+            analysis.add_wall_seconds(w);
+        }
+        for (j, (t, s)) in traj.times.iter().zip(&traj.states).enumerate() {
             if j == 0 && piece > 0 {
                 continue; // the last sample of the previous piece
             }
+            if j > 0 && observer.should_stop() && !integrator.restartable() {
+                analysis.mark_incomplete();
+                break;
+            }
             let t_abs = t0.clone() + f(*t);
-            ctx.emit(observer, first + j, &t_abs, s, &mut report)?;
+            analysis.sample(&t_abs, s, observer)?;
         }
-        state = sol.states.last().expect("a grid has samples").clone();
-        t0 += f(*sol.times.last().expect("a grid has samples"));
+        state = traj.states.last().expect("a grid has samples").clone();
+        t0 += f(*traj.times.last().expect("a grid has samples"));
     }
-    Ok(report)
+    Ok(analysis.finish())
 }

@@ -1,20 +1,36 @@
-//! The cross-check harness: start an integrator from the closed-form state at t = 0 and compare
-//! the integrated motion with the closed form along the motion (issue 4).
+//! The cross-check harness: produce a trajectory with any integrator, analyse it against the
+//! closed-form motion on N (issue 4; opened to outside integrators in issue 10).
 //!
-//! A [`Case`] (a, b, m, h, torus, phases, T, N) and a [`MethodConfig`] are separate values;
-//! [`compare`] returns a [`Report`] (errors, drifts, cost) and hands every [`SampleRecord`] to an
-//! [`Observer`] (the CLI logs them to MCAP and draws a progress bar; it can stop the run).
-//! The closed form is evaluated [`REFERENCE_GUARD_BITS`] beyond the integrator's precision, so the
-//! reported error is the integrator's, not the reference's.
+//! Producing and analysing are separate:
+//! - an [`Integrator`] (a built-in [`MethodConfig`], a user's [`Propagator`] wrapped in
+//!   [`Propagated`], an external process of `rsts-external`) integrates from a state through any
+//!   list of times and returns a [`Trajectory`];
+//! - an [`Analysis`] measures samples (time, state) of any spacing against the closed form and
+//!   produces the [`Report`] (errors, drifts, cost), handing every [`SampleRecord`] to an
+//!   [`Observer`] (the CLI logs them to MCAP and draws a progress bar; it can stop the run).
+//!
+//! [`compare_integrator`] is both for a [`Case`] (a, b, m, h, torus, phases, T, N); [`compare`]
+//! is its form for a built-in method; [`bench::measure_against`] measures work against
+//! precision. The closed form is evaluated [`REFERENCE_GUARD_BITS`] beyond the integrator's
+//! precision, so the reported error is the integrator's, not the reference's.
+//!
+//! [`Propagator`]: rsts_dynamics::integrators::Propagator
 
+pub mod analysis;
 pub mod bench;
 mod case;
 mod compare;
+pub mod integrator;
 mod metrics;
 
-pub use bench::{measure, measure_against, BenchRow, Reference};
+pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
+pub use bench::{measure, measure_against, measure_integrator, BenchRow, Reference};
 pub use case::Case;
-pub use compare::{compare, reference_bits, NoObserver, Observer, REFERENCE_GUARD_BITS};
+pub use compare::{
+    compare, compare_integrator, reference_bits, reference_bits_for, run_info, CompareOptions,
+    DEFAULT_PIECES, REFERENCE_GUARD_BITS,
+};
+pub use integrator::{check_times, Integrator, Propagated, Trajectory};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot};
 pub use rsts_dynamics::integrators::MethodConfig;
 
@@ -29,4 +45,7 @@ pub enum HarnessError {
     Case(String),
     #[error("observer: {0}")]
     Observer(String),
+    /// An integrator failed (an external process: what it did and the end of its stderr).
+    #[error("{0}")]
+    Integrator(String),
 }

@@ -64,8 +64,9 @@ pub struct Drift {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Report {
     pub method: String,
-    pub rtol: f64,
-    pub atol: f64,
+    /// Tolerances of the integrator (`null` when it has none, e.g. a trajectory from a file).
+    pub rtol: Option<f64>,
+    pub atol: Option<f64>,
     /// Digits of the integrator's scalar (f64: 15).
     pub digits: u32,
     /// Digits of the closed-form reference.
@@ -82,9 +83,14 @@ pub struct Report {
     pub rejected_steps: u64,
     pub rhs_evals: u64,
     pub integration_seconds: f64,
+    /// Wall time measured around an external integrator (process start, request and answer
+    /// included); absent for in-process integrators.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wall_seconds: Option<f64>,
 }
 
 impl Report {
+    /// Add the errors of one sample (the one place where samples are summarised).
     pub(crate) fn absorb(&mut self, e: &SampleErrors) {
         self.max_state_error = self.max_state_error.max(e.state_error);
         self.final_state_error = e.state_error;
@@ -98,6 +104,7 @@ impl Report {
         self.samples_compared += 1;
     }
 
+    /// Add the cost of (a piece of) a run.
     pub(crate) fn add_stats(&mut self, s: &Stats) {
         self.steps += s.accepted_steps;
         self.rejected_steps += s.rejected_steps;
@@ -139,7 +146,8 @@ pub(crate) struct ManifoldN {
     pub r4m: Float,
 }
 
-/// Errors at one sample, at the reference precision.
+/// Errors at one sample, at the reference precision (the one place where per-sample errors are
+/// computed; [`Report::absorb`] summarises them).
 pub(crate) fn sample_errors(
     fields: &Fields<Float>,
     n: &ManifoldN,

@@ -121,3 +121,127 @@ fn bad_cases_are_rejected() {
     .unwrap_err();
     assert!(e.to_string().contains("Σ"), "{e}");
 }
+
+/// A user's own integrator, defined outside the project: explicit Euler with a fixed step.
+struct Euler {
+    step: f64,
+}
+
+impl rsts_dynamics::integrators::Propagator<f64> for Euler {
+    fn name(&self) -> &'static str {
+        "euler"
+    }
+    fn propagate_grid(
+        &self,
+        problem: &rsts_dynamics::integrators::Problem<f64>,
+        grid: &rsts_dynamics::integrators::OutputGrid,
+    ) -> Result<rsts_dynamics::integrators::Solution<f64>, rsts_dynamics::DynamicsError> {
+        let field = rsts_dynamics::VectorField::new(&problem.fields);
+        let mut y = problem.initial.to_array();
+        let mut states = vec![problem.initial.clone()];
+        let mut steps = 0;
+        for k in 1..grid.samples {
+            let dt = grid.time(k) - grid.time(k - 1);
+            let n = (dt / self.step).ceil().max(1.0) as usize;
+            for _ in 0..n {
+                let mut dy = [0.0; 9];
+                field.eval_into(&y, &mut dy);
+                for i in 0..9 {
+                    y[i] += dt / n as f64 * dy[i];
+                }
+                steps += 1;
+            }
+            states.push(rsts_dynamics::State::from_slice(&y));
+        }
+        Ok(rsts_dynamics::integrators::Solution {
+            method: "euler",
+            times: grid.times(),
+            states,
+            stats: rsts_dynamics::integrators::Stats {
+                accepted_steps: steps,
+                rhs_evals: steps,
+                ..Default::default()
+            },
+        })
+    }
+}
+
+/// Any Propagator<f64> is measured like a built-in method: compare and bench take it, name it,
+/// and find Euler's first-order error (halving the step halves it) far above RK4's.
+#[test]
+fn a_user_defined_propagator_is_compared_and_benchmarked() {
+    use rsts_harness::{compare_integrator, measure_integrator, CompareOptions, Propagated};
+    let c = Case {
+        t_end: 2.0,
+        samples: 21,
+        ..case(0.3, -0.375)
+    };
+    let opts = CompareOptions::default();
+    let mut coarse = Propagated::new(Euler { step: 1e-3 });
+    let r1 = compare_integrator(&c, &mut coarse, &opts, &mut NoObserver).unwrap();
+    let mut fine = Propagated::new(Euler { step: 5e-4 }).named("euler-fine");
+    let r2 = compare_integrator(&c, &mut fine, &opts, &mut NoObserver).unwrap();
+    assert_eq!(
+        (r1.method.as_str(), r2.method.as_str()),
+        ("euler", "euler-fine")
+    );
+    assert_eq!(r1.samples_compared, 21);
+    let ratio = r1.max_state_error / r2.max_state_error;
+    assert!((1.8..2.2).contains(&ratio), "first order: ratio {ratio}");
+    assert!((2000..=2020).contains(&r1.steps), "{} steps", r1.steps);
+    let rk4 = compare(&c, &config(MethodName::Rk4, 1e-12), &mut NoObserver).unwrap();
+    assert!(
+        rk4.max_state_error < 1e-3 * r1.max_state_error,
+        "rk4 {:e}, euler {:e}",
+        rk4.max_state_error,
+        r1.max_state_error
+    );
+
+    let reference = rsts_harness::Reference::new(&c, 200).unwrap();
+    let row = measure_integrator(&reference, &mut coarse, 2).unwrap();
+    assert_eq!(row.method, "euler");
+    assert!(row.tolerance.is_nan(), "no tolerances given");
+    assert!(
+        (row.max_error - r1.max_state_error).abs() < 1e-3 * r1.max_state_error,
+        "bench {:e} vs compare {:e}",
+        row.max_error,
+        r1.max_state_error
+    );
+}
+
+/// compare = produce + analyse: one uninterrupted run analysed sample by sample gives the same
+/// report as compare_integrator with one piece.
+#[test]
+fn compare_is_produce_then_analyse() {
+    use rsts_dynamics::integrators::{OutputGrid, Problem};
+    use rsts_harness::{
+        analyse, compare_integrator, reference_bits, run_info, Analysis, CompareOptions, Integrator,
+    };
+    let c = case(-0.7092, 1.5643);
+    let mut cfg = config(MethodName::TaylorF64, 1e-11);
+    let one = CompareOptions { pieces: 1 };
+    let report = compare_integrator(&c, &mut cfg, &one, &mut NoObserver).unwrap();
+    let bits = reference_bits(&cfg);
+    let analysis = Analysis::for_case(&c, bits, run_info(&cfg)).unwrap();
+    let start = analysis.exact_state(&rug::Float::with_val(bits, 0));
+    let problem = Problem {
+        fields: analysis.fields().clone(),
+        initial: start,
+    };
+    let grid = OutputGrid::new(c.t_end, c.samples).unwrap();
+    let traj = cfg.integrate(&problem, &grid.times()).unwrap();
+    let times: Vec<rug::Float> = traj
+        .times
+        .iter()
+        .map(|&t| rug::Float::with_val(bits, t))
+        .collect();
+    let produced = analyse(analysis, &times, &traj.states, &mut NoObserver).unwrap();
+    assert_eq!(report.max_state_error, produced.max_state_error);
+    assert_eq!(report.drift, produced.drift);
+    assert_eq!(report.samples_compared, produced.samples_compared);
+    assert_eq!(report.steps, traj.stats.accepted_steps);
+    // In 64 pieces the integrator restarts: another trajectory, the same accuracy class.
+    let pieces = compare(&c, &cfg, &mut NoObserver).unwrap();
+    assert_ne!(pieces.steps, report.steps);
+    assert!(pieces.max_state_error < 100.0 * report.max_state_error.max(1e-12));
+}

@@ -334,6 +334,14 @@ pub fn report_skip(test: &str, reason: &str) {
 mod tests {
     use super::*;
 
+    /// `remove_temporaries` empties the process-wide set: tests that hold temporaries take this
+    /// lock so that one test's clean-up does not remove another's open file.
+    static SERIAL: Mutex<()> = Mutex::new(());
+
+    fn serial() -> std::sync::MutexGuard<'static, ()> {
+        SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
     fn scratch(name: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("rsts-io-{}-{name}", std::process::id()));
         let _ = fs::remove_dir_all(&d);
@@ -352,6 +360,7 @@ mod tests {
 
     #[test]
     fn uncommitted_file_leaves_the_old_one_and_no_temporary() {
+        let _serial = serial();
         let d = scratch("drop");
         let p = d.join("keep.txt");
         fs::write(&p, "old").unwrap();
@@ -370,6 +379,7 @@ mod tests {
 
     #[test]
     fn commit_replaces_whole() {
+        let _serial = serial();
         let d = scratch("commit");
         let p = d.join("sub/out.bin");
         fs::create_dir_all(p.parent().unwrap()).unwrap();
@@ -383,6 +393,7 @@ mod tests {
 
     #[test]
     fn remove_temporaries_cleans_open_files() {
+        let _serial = serial();
         let d = scratch("signal");
         let p = d.join("x.mcap");
         let mut f = AtomicFile::create(&p).unwrap();
@@ -397,6 +408,7 @@ mod tests {
 
     #[test]
     fn directory_target_and_unwritable_places_are_refused() {
+        let _serial = serial();
         let d = scratch("refuse");
         assert!(AtomicFile::create(&d).is_err());
         assert!(check_writable(&d).is_err());
@@ -407,6 +419,7 @@ mod tests {
 
     #[test]
     fn atomic_dir_swaps_whole_directories() {
+        let _serial = serial();
         let d = scratch("dir");
         let target = d.join("report");
         fs::create_dir_all(&target).unwrap();

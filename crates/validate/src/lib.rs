@@ -44,6 +44,8 @@ pub struct Options {
     pub shard: Option<Shard>,
     /// Threads; 0: one per core.
     pub jobs: usize,
+    /// An external integrator (name, adapter) replacing the methods of every case.
+    pub exec: Option<(String, suite::AdapterSpec)>,
 }
 
 /// Run a suite (or one shard of it), compare with the baseline, write the report and the plots.
@@ -52,7 +54,8 @@ pub fn validate(
     opts: &Options,
     progress: &(dyn Fn(&RunResult) + Sync),
 ) -> Result<Report, ValidateError> {
-    let suite = Suite::load(&opts.suite)?;
+    let exec = opts.exec.as_ref().map(|(n, a)| (n.as_str(), a));
+    let suite = Suite::load_with(&opts.suite, exec)?;
     // Read the baseline first: a missing one is an error before any work.
     let baseline = opts.baseline.as_deref().map(Report::read).transpose()?;
     let runs = match opts.shard {

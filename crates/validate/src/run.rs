@@ -4,7 +4,9 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 use rsts_closed_form::TorusChoice;
-use rsts_harness::{compare, Observer, SampleRecord};
+use rsts_dynamics::integrators::Tolerances;
+use rsts_external::Exec;
+use rsts_harness::{compare_integrator, CompareOptions, Integrator, Observer, SampleRecord};
 use serde::{Deserialize, Serialize};
 
 use crate::closed_form_check::{self, ClosedFormCheck};
@@ -226,6 +228,12 @@ pub fn execute(run: &Run) -> RunResult {
     let started = Instant::now();
     let (method, rtol, digits) = match &run.kind {
         RunKind::ClosedForm => ("closed-form".to_string(), None, None),
+        RunKind::External {
+            method,
+            rtol,
+            digits,
+            ..
+        } => (method.clone(), Some(*rtol), *digits),
         RunKind::Integrator {
             method,
             rtol,
@@ -257,8 +265,23 @@ pub fn execute(run: &Run) -> RunResult {
         series: Series::default(),
         timing: Timing::default(),
     };
+    let external = match &run.kind {
+        RunKind::External {
+            method,
+            command,
+            rtol,
+            atol,
+            digits,
+            timeout,
+        } => Some(external(method, command, *rtol, *atol, *digits, *timeout)),
+        _ => None,
+    };
     match run.method_config() {
         Err(e) => r.error = Some(e.to_string()),
+        Ok(None) if external.is_some() => match external.expect("checked") {
+            Err(e) => r.error = Some(e),
+            Ok(mut exec) => integrate_run(run, &mut exec, &mut r),
+        },
         Ok(None) => {
             let choice = TorusChoice {
                 torus: run.torus,
@@ -271,43 +294,67 @@ pub fn execute(run: &Run) -> RunResult {
                 Err(e) => r.error = Some(e.to_string()),
             }
         }
-        Ok(Some(config)) => {
-            let mut obs = Collector::default();
-            match compare(&run.harness_case(), &config, &mut obs) {
-                Err(e) => r.error = Some(e.to_string()),
-                Ok(rep) => {
-                    r.figures = Some(Figures {
-                        max_state_error: rep.max_state_error,
-                        final_state_error: rep.final_state_error,
-                        max_orientation_error: rep.max_orientation_error,
-                        drift_h: rep.drift.h,
-                        drift_k: rep.drift.k,
-                        drift_g: rep.drift.g,
-                        drift_constraints: rep.drift.constraints,
-                        off_n: rep.drift.off_n,
-                        steps: rep.steps,
-                        rejected_steps: rep.rejected_steps,
-                        rhs_evals: rep.rhs_evals,
-                        samples_compared: rep.samples_compared,
-                    });
-                    r.timing.integration_seconds = rep.integration_seconds;
-                    r.growth = GrowthFits {
-                        state_error: growth::fit(&obs.t, &obs.state_error),
-                        off_n: growth::fit(&obs.t, &obs.off_n),
-                    };
-                    let idx = downsample_indices(obs.t.len(), SERIES_POINTS);
-                    r.series = Series {
-                        t: idx.iter().map(|&k| obs.t[k]).collect(),
-                        state_error: idx.iter().map(|&k| obs.state_error[k]).collect(),
-                        off_n: idx.iter().map(|&k| obs.off_n[k]).collect(),
-                    };
-                }
-            }
-        }
+        Ok(Some(mut config)) => integrate_run(run, &mut config, &mut r),
     }
     judge(&mut r);
     r.timing.wall_seconds = started.elapsed().as_secs_f64();
     r
+}
+
+/// An adapter's integrator.
+fn external(
+    name: &str,
+    command: &[String],
+    rtol: f64,
+    atol: f64,
+    digits: Option<u32>,
+    timeout: Option<f64>,
+) -> Result<Exec, String> {
+    let tol = Tolerances::new(rtol, atol).map_err(|e| e.to_string())?;
+    let mut exec = Exec::from_argv(command.to_vec(), tol)?.named(name);
+    if let Some(d) = digits {
+        exec = exec.with_digits(d)?;
+    }
+    if let Some(t) = timeout {
+        exec = exec.with_timeout(t)?;
+    }
+    Ok(exec)
+}
+
+/// Compare an integrator along the run's case: figures, growth fits, series.
+fn integrate_run(run: &Run, integrator: &mut dyn Integrator, r: &mut RunResult) {
+    let mut obs = Collector::default();
+    let options = CompareOptions::default();
+    match compare_integrator(&run.harness_case(), integrator, &options, &mut obs) {
+        Err(e) => r.error = Some(e.to_string()),
+        Ok(rep) => {
+            r.figures = Some(Figures {
+                max_state_error: rep.max_state_error,
+                final_state_error: rep.final_state_error,
+                max_orientation_error: rep.max_orientation_error,
+                drift_h: rep.drift.h,
+                drift_k: rep.drift.k,
+                drift_g: rep.drift.g,
+                drift_constraints: rep.drift.constraints,
+                off_n: rep.drift.off_n,
+                steps: rep.steps,
+                rejected_steps: rep.rejected_steps,
+                rhs_evals: rep.rhs_evals,
+                samples_compared: rep.samples_compared,
+            });
+            r.timing.integration_seconds = rep.integration_seconds;
+            r.growth = GrowthFits {
+                state_error: growth::fit(&obs.t, &obs.state_error),
+                off_n: growth::fit(&obs.t, &obs.off_n),
+            };
+            let idx = downsample_indices(obs.t.len(), SERIES_POINTS);
+            r.series = Series {
+                t: idx.iter().map(|&k| obs.t[k]).collect(),
+                state_error: idx.iter().map(|&k| obs.state_error[k]).collect(),
+                off_n: idx.iter().map(|&k| obs.off_n[k]).collect(),
+            };
+        }
+    }
 }
 
 /// Do all runs on `jobs` threads (0: rayon's default, the number of cores); results sorted by id.

@@ -6,7 +6,7 @@
 //! `case/t<torus>/<method>@<tol>` (and `case/t<torus>/closed-form` for the check of the closed
 //! form itself); ids are unique in a suite and sorted.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use rsts_closed_form::{Camera, ExplicitMotion, TorusChoice};
@@ -153,6 +153,18 @@ pub struct CaseSpec {
     pub thresholds: Thresholds,
 }
 
+/// An external integrator of a suite (`[adapters.NAME]`), used by its name in `methods` like a
+/// built-in method (protocol rsts-integrator/1, docs/own-integrator.md).
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AdapterSpec {
+    /// The program and its arguments (run without a shell).
+    pub command: Vec<String>,
+    /// Seconds one run may take (default 600).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub timeout: Option<f64>,
+}
+
 /// A suite file.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -161,6 +173,9 @@ pub struct SuiteFile {
     pub description: Option<String>,
     #[serde(default)]
     pub defaults: Defaults,
+    /// External integrators by name.
+    #[serde(default)]
+    pub adapters: BTreeMap<String, AdapterSpec>,
     #[serde(default, rename = "case")]
     pub cases: Vec<CaseSpec>,
 }
@@ -181,6 +196,17 @@ pub enum RunKind {
     },
     /// The closed form in f64 against itself at 50 digits, and its Euler–Poisson residual.
     ClosedForm,
+    /// An external integrator (`[adapters.NAME]`) against the closed form.
+    External {
+        method: String,
+        command: Vec<String>,
+        rtol: f64,
+        atol: f64,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        digits: Option<u32>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        timeout: Option<f64>,
+    },
 }
 
 /// One run of a suite: a case, a torus and a method (or the closed-form check).
@@ -222,7 +248,7 @@ impl Run {
     /// The method config of an integrator run.
     pub fn method_config(&self) -> Result<Option<MethodConfig>, ValidateError> {
         match &self.kind {
-            RunKind::ClosedForm => Ok(None),
+            RunKind::ClosedForm | RunKind::External { .. } => Ok(None),
             RunKind::Integrator {
                 method,
                 rtol,
@@ -275,20 +301,45 @@ pub const DEFAULT_CLOSED_FORM_RESIDUAL: f64 = 1e-38;
 impl Suite {
     /// Read and expand a suite file.
     pub fn load(path: &Path) -> Result<Suite, ValidateError> {
+        Suite::load_with(path, None)
+    }
+
+    /// Parse and expand suite text; `fallback_name` names a suite without `name`.
+    pub fn parse(text: &str, fallback_name: &str) -> Result<Suite, ValidateError> {
+        Suite::parse_with(text, fallback_name, None)
+    }
+
+    /// Read a suite file; with `exec` = (NAME, adapter), that external integrator replaces the
+    /// methods of every case (`rsts validate --exec`).
+    pub fn load_with(
+        path: &Path,
+        exec: Option<(&str, &AdapterSpec)>,
+    ) -> Result<Suite, ValidateError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| ValidateError::Io(format!("cannot read suite {}: {e}", path.display())))?;
         let fallback = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "suite".into());
-        Suite::parse(&text, &fallback)
+        Suite::parse_with(&text, &fallback, exec)
             .map_err(|e| ValidateError::Suite(format!("{}: {e}", path.display())))
     }
 
-    /// Parse and expand suite text; `fallback_name` names a suite without `name`.
-    pub fn parse(text: &str, fallback_name: &str) -> Result<Suite, ValidateError> {
-        let file: SuiteFile =
+    /// [`Suite::parse`], with every case's methods replaced by the adapter `exec` when given.
+    pub fn parse_with(
+        text: &str,
+        fallback_name: &str,
+        exec: Option<(&str, &AdapterSpec)>,
+    ) -> Result<Suite, ValidateError> {
+        let mut file: SuiteFile =
             toml::from_str(text).map_err(|e| ValidateError::Suite(format!("{e}")))?;
+        if let Some((name, adapter)) = exec {
+            file.adapters.insert(name.to_string(), adapter.clone());
+            file.defaults.methods = Some(vec![name.to_string()]);
+            for case in &mut file.cases {
+                case.methods = Some(vec![name.to_string()]);
+            }
+        }
         Suite::expand(&file, fallback_name)
     }
 
@@ -296,6 +347,26 @@ impl Suite {
     pub fn expand(file: &SuiteFile, fallback_name: &str) -> Result<Suite, ValidateError> {
         if file.cases.is_empty() {
             return Err(ValidateError::Suite("the suite has no [[case]]".into()));
+        }
+        for (name, adapter) in &file.adapters {
+            check_name(name).map_err(|e| ValidateError::Suite(format!("adapter {e}")))?;
+            if name.parse::<MethodName>().is_ok() {
+                return Err(ValidateError::Suite(format!(
+                    "adapter '{name}': the name of a built-in method"
+                )));
+            }
+            if adapter.command.is_empty() || adapter.command[0].is_empty() {
+                return Err(ValidateError::Suite(format!(
+                    "adapter '{name}': command must name a program, e.g. command = [\"python3\", \"my_adapter.py\"]"
+                )));
+            }
+            if let Some(t) = adapter.timeout {
+                if !(t.is_finite() && t > 0.0) {
+                    return Err(ValidateError::Suite(format!(
+                        "adapter '{name}': timeout must be a positive number of seconds, got {t}"
+                    )));
+                }
+            }
         }
         let mut runs = Vec::new();
         let mut names = BTreeSet::new();
@@ -306,7 +377,7 @@ impl Suite {
                     spec.name
                 )));
             }
-            runs.extend(expand_case(&file.defaults, spec)?);
+            runs.extend(expand_case(&file.defaults, &file.adapters, spec)?);
         }
         runs.sort_by(|x, y| x.id.cmp(&y.id));
         for w in runs.windows(2) {
@@ -463,7 +534,11 @@ pub fn place_h(
     })
 }
 
-fn expand_case(defaults: &Defaults, spec: &CaseSpec) -> Result<Vec<Run>, ValidateError> {
+fn expand_case(
+    defaults: &Defaults,
+    adapters: &BTreeMap<String, AdapterSpec>,
+    spec: &CaseSpec,
+) -> Result<Vec<Run>, ValidateError> {
     check_name(&spec.name)?;
     let what = format!("case '{}'", spec.name);
     let e = |msg: String| ValidateError::Suite(format!("{what}: {msg}"));
@@ -593,6 +668,26 @@ fn expand_case(defaults: &Defaults, spec: &CaseSpec) -> Result<Vec<Run>, Validat
             });
         }
         for method in &methods {
+            if let Some(adapter) = adapters.get(method) {
+                for &tol in &tolerances {
+                    if !(tol.is_finite() && tol > 0.0) {
+                        return Err(e(format!("tolerance must be positive, got {tol}")));
+                    }
+                    runs.push(Run {
+                        id: format!("{}/t{torus}/{method}@{}", spec.name, tol_label(tol)),
+                        kind: RunKind::External {
+                            method: method.clone(),
+                            command: adapter.command.clone(),
+                            rtol: tol,
+                            atol: tol,
+                            digits,
+                            timeout: adapter.timeout,
+                        },
+                        ..base.clone()
+                    });
+                }
+                continue;
+            }
             for &tol in &tolerances {
                 // Checked here so a bad method or tolerance is a suite error, not a failed run.
                 let config = method_config(method, tol, tol, digits, step)

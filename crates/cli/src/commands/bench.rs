@@ -1,26 +1,28 @@
 //! `rsts bench`: work–precision measurement of integrators against the closed form (issue 5):
 //! for each method and tolerance the largest state error over the samples, the integration time
 //! (median of repeats), steps and right-hand-side evaluations; a table, JSON rows, and a
-//! log–log diagram of error against time, optionally beside a peer's rows (heyoka).
+//! log–log diagram of error against time. External integrators (`--exec`, e.g. heyoka through
+//! scripts/adapters/heyoka_adapter.py) are measured the same way and drawn dashed beside ours.
 
 use std::collections::btree_map::{BTreeMap, Entry};
 use std::io::{IsTerminal, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Context};
 use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rug::Float;
 use serde::Serialize;
-use serde_json::Value;
 
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances, MAX_MP_DIGITS};
-use rsts_dynamics::scalar::{bits_for_digits, digits_for_bits};
-use rsts_harness::{measure_against, reference_bits, BenchRow, Case, Reference};
+use rsts_harness::{
+    measure_against, measure_integrator, reference_bits, reference_bits_for, BenchRow, Case,
+    Integrator, Reference,
+};
 use rsts_plots::{Chart, Scale, Series, Style};
 
 use crate::args::{count, finite_f64, CaseArgs, MethodParser, MAX_SAMPLES};
+use crate::external::{exec_integrator, TimeoutArgs};
 use crate::output::{self, Cell, Format, Tabular};
 
 /// Shown at the end of `rsts bench --help`.
@@ -37,17 +39,19 @@ Examples:
   # extended and multiple precision (taylor-mp at 90 digits)
   rsts bench --methods taylor-dd,taylor-mp --digits 90 --tolerances 1e-20,1e-30,1e-50,1e-80
 
-  # side by side with heyoka (scripts/install_heyoka.sh installs it into .venv-heyoka;
-  # scripts/peer_heyoka.py writes the peer's rows)
+  # side by side with heyoka (an external integrator: scripts/install_adapters.sh heyoka)
   # needs: heyoka
-  rsts bench --write-reference out/ref.json
-  .venv-heyoka/bin/python scripts/peer_heyoka.py compare out/ref.json --methods f64 \\
-      --tolerances 1e-8,1e-10,1e-12,1e-14 --out out/heyoka.json
-  rsts bench --peer out/heyoka.json --svg out/wp.svg
+  rsts bench --methods taylor-f64 --exec \".venv-adapters/bin/python scripts/adapters/heyoka_adapter.py f64\" \\
+      --tolerances 1e-8,1e-10,1e-12,1e-14 --svg out/wp.svg
+
+  # any program speaking rsts-integrator/1 (docs/own-integrator.md); repeat --exec for more
+  cargo build --release -p example-adapter-rk4
+  rsts bench --exec target/release/example-adapter-rk4 --tolerances 1e-6,1e-8,1e-10
 
 A tolerance below a method's unit round-off (e.g. 1e-17 for the f64 methods, 1e-33 for
 taylor-dd) is skipped with a note on stderr. taylor-mp runs at --digits D for all its tolerances;
-default: ceil(-log10(smallest tolerance)) + 10 digits. The closed-form reference is evaluated
+default: ceil(-log10(smallest tolerance)) + 10 digits; an external integrator gets its
+parameters and initial state with as many digits. The closed-form reference is evaluated
 64 bits beyond each method (at least 30 + 19 digits), once per precision. See docs/benchmarks.md.";
 
 /// Options of `rsts bench`.
@@ -61,13 +65,20 @@ pub struct Args {
     /// Number N >= 2 of samples evenly spaced on [0, T] where the error is measured
     #[arg(long, value_name = "N", default_value = "101", value_parser = count)]
     pub samples: usize,
-    /// Methods, comma-separated
-    #[arg(long, value_name = "LIST", default_value = "dop853,taylor-f64", value_delimiter = ',', value_parser = MethodParser)]
-    pub methods: Vec<MethodName>,
+    /// Methods, comma-separated (default: dop853,taylor-f64, or none when --exec is given)
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = MethodParser)]
+    pub methods: Option<Vec<MethodName>>,
+    /// An external integrator speaking rsts-integrator/1 (a command, split like a shell would);
+    /// may be repeated. Its rows are named by its answer and drawn dashed
+    #[arg(long, value_name = "COMMAND")]
+    pub exec: Vec<String>,
+    #[command(flatten)]
+    pub timeout: TimeoutArgs,
     /// Tolerances (rtol = atol), comma-separated
     #[arg(long, value_name = "LIST", default_value = "1e-8,1e-10,1e-12,1e-14", value_delimiter = ',', value_parser = finite_f64)]
     pub tolerances: Vec<f64>,
-    /// Decimal digits of taylor-mp (10 to 10000; default: ceil(-log10(smallest tolerance)) + 10)
+    /// Decimal digits of taylor-mp and of the requests to --exec integrators (10 to 10000;
+    /// default: ceil(-log10(smallest tolerance)) + 10)
     #[arg(long, value_name = "D")]
     pub digits: Option<u32>,
     /// Runs per method and tolerance; the time reported is their median
@@ -76,19 +87,9 @@ pub struct Args {
     /// Write the work-precision diagram (max error against seconds, log-log) to this SVG file
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
-    /// Add the rows of a peer ({"rows": [...]} of scripts/peer_heyoka.py); may be repeated
-    #[arg(long, value_name = "FILE")]
-    pub peer: Vec<PathBuf>,
     /// Output format
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
-    /// Only write the closed-form states at the sample times to FILE (rsts-reference-1 JSON,
-    /// read by scripts/peer_heyoka.py) and exit
-    #[arg(long, value_name = "FILE")]
-    pub write_reference: Option<PathBuf>,
-    /// Digits of the states written by --write-reference
-    #[arg(long, value_name = "D", default_value_t = 100)]
-    pub reference_digits: u32,
 }
 
 impl Args {
@@ -97,7 +98,8 @@ impl Args {
     }
 }
 
-/// The JSON of `rsts bench`: the case, the settings and the rows (ours, then the peers').
+/// The JSON of `rsts bench`: the case, the settings and the rows (built-in methods, then the
+/// external integrators).
 #[derive(Serialize)]
 struct Document<'a> {
     case: &'a Case,
@@ -111,7 +113,8 @@ struct Document<'a> {
 struct Labelled {
     row: BenchRow,
     label: String,
-    peer: bool,
+    /// An external integrator (drawn dashed).
+    external: bool,
 }
 
 /// Default digits of taylor-mp for the smallest tolerance `tol`.
@@ -129,9 +132,6 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     let case = args.case();
     case.validate().map_err(|e| anyhow!("{e}"))?;
-    if let Some(path) = &args.write_reference {
-        return write_reference(&case, args.reference_digits, path, out);
-    }
     if args.t_end <= 0.0 || args.samples < 2 {
         bail!("--t-end/--samples: a benchmark needs T > 0 and at least 2 samples");
     }
@@ -144,20 +144,24 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     for &tol in &args.tolerances {
         Tolerances::new(tol, tol).context("--tolerances")?;
     }
+    let default_methods = [MethodName::Dop853, MethodName::TaylorF64];
+    let given = match &args.methods {
+        Some(m) => m.as_slice(),
+        None if args.exec.is_empty() => &default_methods,
+        None => &[],
+    };
     let mut methods: Vec<MethodName> = Vec::new();
-    for m in &args.methods {
+    for m in given {
         if !methods.contains(m) {
             methods.push(*m);
         }
     }
-    if methods.is_empty() {
-        bail!("--methods: give at least one method");
+    if methods.is_empty() && args.exec.is_empty() {
+        bail!("--methods: give at least one method (or an --exec integrator)");
     }
-    let peers = args
-        .peer
-        .iter()
-        .map(|p| read_peer(p))
-        .collect::<anyhow::Result<Vec<_>>>()?;
+    if let Some(path) = &args.svg {
+        rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
+    }
     let smallest = args
         .tolerances
         .iter()
@@ -190,13 +194,28 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             jobs.push(config);
         }
     }
-    if jobs.is_empty() {
+    // External integrators: one run per command and tolerance, requests at `mp_digits` digits.
+    let mut externals = Vec::new();
+    for command in &args.exec {
+        for &tol in &args.tolerances {
+            externals.push(exec_integrator(
+                command,
+                Tolerances::new(tol, tol)?,
+                Some(mp_digits),
+                args.timeout.exec_timeout,
+            )?);
+        }
+    }
+    if jobs.is_empty() && externals.is_empty() {
         bail!(
             "--tolerances: no method can reach any of the tolerances given (all below round-off)"
         );
     }
 
-    let bar = ProgressBar::with_draw_target(Some(jobs.len() as u64), ProgressDrawTarget::hidden());
+    let bar = ProgressBar::with_draw_target(
+        Some((jobs.len() + externals.len()) as u64),
+        ProgressDrawTarget::hidden(),
+    );
     bar.set_style(
         ProgressStyle::with_template("{spinner} bench [{bar:30}] {pos}/{len} {msg} {elapsed}")
             .expect("valid template")
@@ -206,37 +225,48 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let mut shown = false;
     let mut references: BTreeMap<u32, Reference> = BTreeMap::new();
     let mut rows: Vec<Labelled> = Vec::new();
-    for config in &jobs {
-        let label = label_of(config.method, mp_digits);
-        bar.set_message(format!("{label} at {:e}", config.tolerances.rtol));
-        let bits = reference_bits(config);
-        let reference = match references.entry(bits) {
-            Entry::Occupied(e) => e.into_mut(),
-            Entry::Vacant(e) => e.insert(Reference::new(&case, bits).map_err(|e| anyhow!("{e}"))?),
-        };
-        let row = measure_against(reference, config, args.repeats)
-            .map_err(|e| anyhow!("{label} at tolerance {:e}: {e}", config.tolerances.rtol))?;
-        rows.push(Labelled {
-            row,
-            label,
-            peer: false,
-        });
+    let mut reference_at = |bits: u32| -> anyhow::Result<Reference> {
+        Ok(match references.entry(bits) {
+            Entry::Occupied(e) => e.get().clone(),
+            Entry::Vacant(e) => e
+                .insert(Reference::new(&case, bits).map_err(|e| anyhow!("{e}"))?)
+                .clone(),
+        })
+    };
+    let mut tick = |bar: &ProgressBar| {
         if !shown && started.elapsed() > Duration::from_secs(1) && std::io::stderr().is_terminal() {
             bar.set_draw_target(ProgressDrawTarget::stderr());
             shown = true;
         }
         bar.inc(1);
+    };
+    for config in &jobs {
+        let label = label_of(config.method, mp_digits);
+        bar.set_message(format!("{label} at {:e}", config.tolerances.rtol));
+        let reference = reference_at(reference_bits(config))?;
+        let row = measure_against(&reference, config, args.repeats)
+            .map_err(|e| anyhow!("{label} at tolerance {:e}: {e}", config.tolerances.rtol))?;
+        rows.push(Labelled {
+            row,
+            label,
+            external: false,
+        });
+        tick(&bar);
+    }
+    for exec in &mut externals {
+        let tol = exec.tolerances.rtol;
+        bar.set_message(format!("{} at {tol:e}", exec.name()));
+        let reference = reference_at(reference_bits_for(exec.working_bits()))?;
+        let row = measure_integrator(&reference, exec, args.repeats)
+            .map_err(|e| anyhow!("--exec at tolerance {tol:e}: {e}"))?;
+        rows.push(Labelled {
+            label: row.method.clone(),
+            row,
+            external: true,
+        });
+        tick(&bar);
     }
     bar.finish_and_clear();
-    for peer in peers {
-        for row in peer {
-            rows.push(Labelled {
-                label: row.method.clone(),
-                row,
-                peer: true,
-            });
-        }
-    }
 
     if let Some(path) = &args.svg {
         let svg = render(&case, args.repeats, &rows)?;
@@ -244,7 +274,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             std::fs::create_dir_all(dir)
                 .with_context(|| format!("--svg: cannot create {}", dir.display()))?;
         }
-        std::fs::write(path, svg).with_context(|| format!("--svg {}", path.display()))?;
+        rsts_io::write_atomic(path, svg.as_bytes())
+            .with_context(|| format!("--svg {}", path.display()))?;
     }
     let plain: Vec<BenchRow> = rows.iter().map(|l| l.row.clone()).collect();
     match args.format {
@@ -378,7 +409,7 @@ fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::Result<Stri
             Some(k) => k,
             None => {
                 let mut s = Series::new(l.label.clone(), Vec::new(), Style::LineMarkers);
-                s.dashed = l.peer;
+                s.dashed = l.external;
                 series.push(s);
                 points.push(Vec::new());
                 series.len() - 1
@@ -410,132 +441,6 @@ fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::Result<Stri
         height: 540,
     };
     rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg: {e}"))
-}
-
-/// Read and check the rows of a peer file; method names get the prefix `heyoka-` when they do
-/// not have it.
-fn read_peer(path: &Path) -> anyhow::Result<Vec<BenchRow>> {
-    let name = path.display();
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("--peer {name}: cannot read"))?;
-    let doc: Value =
-        serde_json::from_str(&text).map_err(|e| anyhow!("--peer {name}: not valid JSON ({e})"))?;
-    let rows = doc
-        .get("rows")
-        .and_then(Value::as_array)
-        .ok_or_else(|| anyhow!("--peer {name}: expected an object {{\"rows\": [...]}}"))?;
-    if rows.is_empty() {
-        bail!("--peer {name}: \"rows\" is empty");
-    }
-    let mut out = Vec::with_capacity(rows.len());
-    for (i, r) in rows.iter().enumerate() {
-        let bad = |what: &str| anyhow!("--peer {name}: row {}: {what}", i + 1);
-        let num = |key: &str| -> anyhow::Result<f64> {
-            r.get(key)
-                .and_then(Value::as_f64)
-                .filter(|x| x.is_finite() && *x >= 0.0)
-                .ok_or_else(|| bad(&format!("\"{key}\" must be a non-negative number")))
-        };
-        let int = |key: &str| -> anyhow::Result<u64> {
-            r.get(key)
-                .and_then(Value::as_u64)
-                .ok_or_else(|| bad(&format!("\"{key}\" must be a non-negative integer")))
-        };
-        let method = r
-            .get("method")
-            .and_then(Value::as_str)
-            .filter(|s| !s.trim().is_empty())
-            .ok_or_else(|| bad("\"method\" must be a non-empty string"))?;
-        let tolerance = num("tolerance")?;
-        if tolerance == 0.0 {
-            return Err(bad("\"tolerance\" must be positive"));
-        }
-        out.push(BenchRow {
-            method: if method.starts_with("heyoka-") {
-                method.to_string()
-            } else {
-                format!("heyoka-{method}")
-            },
-            tolerance,
-            max_error: num("max_error")?,
-            integration_seconds: num("integration_seconds")?,
-            steps: int("steps")?,
-            rhs_evals: int("rhs_evals")?,
-        });
-    }
-    Ok(out)
-}
-
-/// The reference file of scripts/peer_heyoka.py (`rsts-reference-1`).
-#[derive(Serialize)]
-struct ReferenceFile {
-    format: &'static str,
-    a: String,
-    b: String,
-    m: f64,
-    h: f64,
-    torus: usize,
-    phase1: f64,
-    phase2: f64,
-    digits: u32,
-    times: Vec<String>,
-    states: Vec<Vec<String>>,
-}
-
-fn write_reference(
-    case: &Case,
-    digits: u32,
-    path: &Path,
-    out: &mut dyn Write,
-) -> anyhow::Result<()> {
-    if !(30..=10_000).contains(&digits) {
-        bail!("--reference-digits: must be between 30 and 10000, got {digits}");
-    }
-    let bits = bits_for_digits(digits);
-    let reference = Reference::new(case, bits).map_err(|e| anyhow!("{e}"))?;
-    // Decimals with a few digits more than the reference carries: a, b and the f64 sample
-    // times are then read back to within 10^-(digits+5) of the values the closed form used.
-    let n = (digits_for_bits(bits) + 5) as usize;
-    let dec = |x: &Float| x.to_string_radix(10, Some(n));
-    let exact = |x: f64| dec(&Float::with_val(bits, x));
-    let file = ReferenceFile {
-        format: "rsts-reference-1",
-        a: exact(case.a),
-        b: exact(case.b),
-        m: case.m,
-        h: case.h,
-        torus: case.torus,
-        phase1: case.phase1,
-        phase2: case.phase2,
-        digits,
-        times: (0..reference.grid().samples)
-            .map(|k| match k {
-                0 => "0".to_string(),
-                _ => exact(reference.grid().time(k)),
-            })
-            .collect(),
-        states: reference
-            .states()
-            .iter()
-            .map(|s| s.to_array().iter().map(dec).collect())
-            .collect(),
-    };
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("--write-reference: cannot create {}", dir.display()))?;
-    }
-    let text = serde_json::to_string_pretty(&file)?;
-    std::fs::write(path, text + "\n")
-        .with_context(|| format!("--write-reference {}", path.display()))?;
-    writeln!(
-        out,
-        "reference: {} ({} samples over [0, {}], {} digits)",
-        path.display(),
-        case.samples,
-        case.t_end,
-        digits
-    )?;
-    Ok(())
 }
 
 #[cfg(test)]

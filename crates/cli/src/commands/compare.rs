@@ -12,10 +12,13 @@ use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
-use rsts_harness::{compare, Case, Observer, Report, SampleRecord};
+use rsts_harness::{
+    compare_integrator, Case, CompareOptions, Integrator, Observer, Report, SampleRecord,
+};
 use rsts_mcap::{BodyState, ErrorSample, Metadata, Sample, TrajectoryLog};
 
 use crate::args::{count, finite_f64, CaseArgs, MethodArgs, MAX_SAMPLES};
+use crate::external::{exec_integrator, TimeoutArgs};
 use crate::output::{self, Format};
 
 /// Shown at the end of `rsts compare --help`.
@@ -29,6 +32,10 @@ Examples:
 
   # the Taylor integrator at 60 digits (the closed form is evaluated 64 bits beyond it)
   rsts compare --method taylor-mp --digits 60 --rtol 1e-55 --atol 1e-55 --t-end 20 --samples 21
+
+  # an external integrator (any program speaking rsts-integrator/1, docs/own-integrator.md)
+  cargo build --release -p example-adapter-rk4
+  rsts compare --exec target/release/example-adapter-rk4 --rtol 1e-10 --atol 1e-10 --t-end 20 --samples 201
 
 Open the MCAP file in Foxglove or Lichtblick (Open local file); see docs/mcap.md for the channels.
 Ctrl-C stops the run after the current piece and still leaves a complete, readable MCAP file.";
@@ -46,9 +53,20 @@ pub struct Args {
     pub samples: usize,
     #[command(flatten)]
     pub method: MethodArgs,
-    /// Decimal digits of taylor-mp (10 to 10000; default 50)
+    /// Run this external integrator instead of --method: a command (split like a shell would,
+    /// run without a shell) speaking rsts-integrator/1 on stdin/stdout (docs/own-integrator.md)
+    #[arg(long, value_name = "COMMAND", conflicts_with = "method")]
+    pub exec: Option<String>,
+    #[command(flatten)]
+    pub timeout: TimeoutArgs,
+    /// Decimal digits of taylor-mp (10 to 10000; default 50); with --exec, of the request's
+    /// parameters and initial state (default 36)
     #[arg(long, value_name = "D")]
     pub digits: Option<u32>,
+    /// Integrate in at most N pieces, each restarted from the last state of the previous one
+    /// (progress, Ctrl-C between pieces); 1: one uninterrupted run, as `rsts integrate` does
+    #[arg(long, value_name = "N", default_value_t = rsts_harness::DEFAULT_PIECES)]
+    pub pieces: usize,
     /// Write the comparison to this MCAP file (Foxglove schemas)
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
@@ -74,13 +92,58 @@ impl std::fmt::Display for Interrupted {
 }
 impl std::error::Error for Interrupted {}
 
-/// Logs samples to MCAP, advances the progress bar, and watches Ctrl-C.
-struct CliObserver {
-    log: Option<TrajectoryLog>,
-    bar: ProgressBar,
+/// Logs samples to MCAP, advances the progress bar, and watches Ctrl-C (also used by `check`).
+pub(crate) struct CliObserver {
+    pub(crate) log: Option<TrajectoryLog>,
+    pub(crate) bar: ProgressBar,
     shown: bool,
     started: Instant,
     stop: Arc<AtomicBool>,
+}
+
+/// A flag set by the first Ctrl-C (the run stops after the current piece or sample, and an
+/// external integrator is killed at once); a second Ctrl-C exits at once (an MCAP file then
+/// keeps all but its open chunk).
+pub(crate) fn stop_on_ctrl_c() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    let _ = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+        rsts_external::kill_running();
+    });
+    stop
+}
+
+impl CliObserver {
+    /// Clear the progress bar and finish the MCAP log (its statistics).
+    pub(crate) fn finish(&mut self) -> anyhow::Result<Option<rsts_mcap::LogStats>> {
+        self.bar.finish_and_clear();
+        match self.log.take() {
+            Some(log) => Ok(Some(log.finish().context("finishing the MCAP file")?)),
+            None => Ok(None),
+        }
+    }
+
+    /// An observer of `samples` samples logging to `log`, stopped by `stop`.
+    pub(crate) fn new(log: Option<TrajectoryLog>, samples: u64, stop: Arc<AtomicBool>) -> Self {
+        let bar = ProgressBar::with_draw_target(Some(samples), ProgressDrawTarget::hidden());
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{spinner} comparing [{bar:40}] {pos}/{len} samples, {elapsed} ({eta} left)",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        Self {
+            log,
+            bar,
+            shown: false,
+            started: Instant::now(),
+            stop,
+        }
+    }
 }
 
 fn body(s: &rsts_harness::StateSnapshot) -> BodyState {
@@ -131,6 +194,24 @@ impl Observer for CliObserver {
     }
 }
 
+/// Create the MCAP log `path` (its directory too) with the case and the integrator as metadata.
+pub(crate) fn open_log(
+    path: &std::path::Path,
+    case: &impl Serialize,
+    integrator: &impl Serialize,
+) -> anyhow::Result<TrajectoryLog> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("--mcap: cannot create {}", dir.display()))?;
+    }
+    let meta = Metadata::new(
+        concat!("rsts ", env!("CARGO_PKG_VERSION")),
+        case,
+        integrator,
+    )?;
+    TrajectoryLog::create(path, &meta).with_context(|| format!("--mcap {}", path.display()))
+}
+
 /// The JSON of `rsts compare`: the report plus where the log went.
 #[derive(Serialize)]
 struct Document<'a> {
@@ -148,68 +229,55 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         );
     }
     let mut config = args.method.config()?;
-    if let Some(d) = args.digits {
+    let mut external = None;
+    if let Some(command) = &args.exec {
+        external = Some(exec_integrator(
+            command,
+            config.tolerances,
+            args.digits,
+            args.timeout.exec_timeout,
+        )?);
+    } else if let Some(d) = args.digits {
         config = config.with_digits(d).context("--digits")?;
     }
+    let integrator: &mut dyn Integrator = match &mut external {
+        Some(exec) => exec,
+        None => &mut config,
+    };
     let case = args.case();
     case.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
+    if args.pieces == 0 {
+        bail!("--pieces: need at least 1");
+    }
     let log = match &args.mcap {
         None => None,
         Some(path) => {
-            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir)
-                    .with_context(|| format!("--mcap: cannot create {}", dir.display()))?;
-            }
-            let integrator = serde_json::json!({
-                "method": config.method.as_str(),
-                "rtol": config.tolerances.rtol,
-                "atol": config.tolerances.atol,
-                "digits": rsts_dynamics::scalar::digits_for_bits(config.working_bits()),
+            let mut meta = serde_json::json!({
+                "method": integrator.name(),
+                "rtol": args.method.rtol,
+                "atol": args.method.atol,
+                "digits": rsts_dynamics::scalar::digits_for_bits(integrator.working_bits()),
             });
-            let meta = Metadata::new(
-                concat!("rsts ", env!("CARGO_PKG_VERSION")),
-                &case,
-                &integrator,
-            )?;
-            Some(
-                TrajectoryLog::create(path, &meta)
-                    .with_context(|| format!("--mcap {}", path.display()))?,
-            )
+            if let Some(command) = &args.exec {
+                meta["command"] = command.clone().into();
+            }
+            Some(open_log(path, &case, &meta)?)
         }
     };
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        // A second Ctrl-C exits at once (the MCAP file then keeps all but the open chunk).
-        let _ = ctrlc::set_handler(move || {
-            if stop.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-        });
-    }
-    let bar =
-        ProgressBar::with_draw_target(Some(args.samples as u64), ProgressDrawTarget::hidden());
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} comparing [{bar:40}] {pos}/{len} samples, {elapsed} ({eta} left)",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
-    );
-    let mut observer = CliObserver {
-        log,
-        bar,
-        shown: false,
-        started: Instant::now(),
-        stop: stop.clone(),
+    let stop = stop_on_ctrl_c();
+    let mut observer = CliObserver::new(log, args.samples as u64, stop.clone());
+    let options = CompareOptions {
+        pieces: args.pieces,
     };
-    let result = compare(&case, &config, &mut observer);
-    observer.bar.finish_and_clear();
-    let log_stats = match observer.log.take() {
-        Some(log) => Some(log.finish().context("finishing the MCAP file")?),
-        None => None,
+    let result = compare_integrator(&case, integrator, &options, &mut observer);
+    let log_stats = observer.finish()?;
+    let report = match result {
+        Ok(r) => r,
+        Err(e) if stop.load(Ordering::SeqCst) => {
+            return Err(Interrupted(format!("interrupted: {e}")).into())
+        }
+        Err(e) => bail!("{e}"),
     };
-    let report = result.map_err(|e| anyhow::anyhow!("{e}"))?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     match args.format {
         Format::Json => output::write_json(
@@ -219,7 +287,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 mcap: mcap.clone(),
             },
         )?,
-        Format::Table | Format::Csv => write_table(out, &args, &report)?,
+        Format::Table | Format::Csv => {
+            let c = &args.case;
+            write_table(
+                out,
+                &report,
+                &format!("0, {}", args.t_end),
+                (c.fields.a, c.fields.b, c.m, c.h, c.torus),
+            )?
+        }
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {
         writeln!(
@@ -241,7 +317,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn write_table(out: &mut dyn Write, args: &Args, r: &Report) -> anyhow::Result<()> {
+/// The report as `key: value` lines; `span` is the time interval, `case` (a, b, m, h, torus).
+pub(crate) fn write_table(
+    out: &mut dyn Write,
+    r: &Report,
+    span: &str,
+    case: (f64, f64, f64, f64, usize),
+) -> anyhow::Result<()> {
+    let (a, b, m, h, torus) = case;
     let e = |x: f64| format!("{x:.3e}");
     output::write_key_values(
         out,
@@ -249,28 +332,28 @@ fn write_table(out: &mut dyn Write, args: &Args, r: &Report) -> anyhow::Result<(
             (
                 "camera",
                 format!(
-                    "{} (a = {}, b = {}, m = {}, h = {}, torus {})",
-                    r.camera,
-                    args.case.fields.a,
-                    args.case.fields.b,
-                    args.case.m,
-                    args.case.h,
-                    args.case.torus
+                    "{} (a = {a}, b = {b}, m = {m}, h = {h}, torus {torus})",
+                    r.camera
                 ),
             ),
             (
                 "method",
                 format!(
-                    "{} (rtol {:e}, atol {:e}, {} digits; reference {} digits)",
-                    r.method, r.rtol, r.atol, r.digits, r.reference_digits
+                    "{} ({}{} digits; reference {} digits)",
+                    r.method,
+                    match (r.rtol, r.atol) {
+                        (Some(rtol), Some(atol)) => format!("rtol {rtol:e}, atol {atol:e}, "),
+                        _ => String::new(),
+                    },
+                    r.digits,
+                    r.reference_digits
                 ),
             ),
             (
                 "samples",
                 format!(
-                    "{} over [0, {}]{}",
+                    "{} over [{span}]{}",
                     r.samples_compared,
-                    args.t_end,
                     if r.complete { "" } else { " (interrupted)" }
                 ),
             ),
@@ -293,7 +376,13 @@ fn write_table(out: &mut dyn Write, args: &Args, r: &Report) -> anyhow::Result<(
             ("rhs evaluations", r.rhs_evals.to_string()),
             (
                 "integration time",
-                format!("{:.6} s", r.integration_seconds),
+                match r.wall_seconds {
+                    Some(w) => format!(
+                        "{:.6} s (process wall time {w:.6} s)",
+                        r.integration_seconds
+                    ),
+                    None => format!("{:.6} s", r.integration_seconds),
+                },
             ),
         ],
     )?;

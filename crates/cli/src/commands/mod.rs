@@ -1,11 +1,13 @@
 //! One module per subcommand, each with `Args`, `EXAMPLES` and `run(args, out)`.
 
 pub mod bench;
+pub mod check;
 pub mod compare;
 pub mod diagram;
 pub mod explicit;
 pub mod inspect;
 pub mod integrate;
+pub mod reference;
 pub mod surfaces;
 pub mod table1;
 pub mod table2;

@@ -11,7 +11,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use anyhow::bail;
 use clap::{Args as ClapArgs, Subcommand};
 
+use rsts_validate::suite::AdapterSpec;
 use rsts_validate::{merge_dirs, validate, Options, Report, RunResult, Shard, Status, Suite};
+
+use crate::external::TimeoutArgs;
 
 /// Shown at the end of `rsts validate --help`.
 pub const EXAMPLES: &str = "\
@@ -32,6 +35,10 @@ Examples:
   # the nightly sweep (602 runs; scripts/nightly.sh compares it with the last passing night)
   # takes: 1 min with 2 cores
   rsts validate --suite validation/nightly.toml --report out/nightly --jobs 2
+
+  # your own integrator through the CI suite (docs/own-integrator.md)
+  cargo build --release -p example-adapter-rk4
+  rsts validate --suite validation/quick.toml --report out/mine --exec target/release/example-adapter-rk4 --exec-name my-rk4
 
 Exit code 1 names every run that missed a threshold or regressed (error grown 10x, time grown 2x);
 exit code 2 is bad input (suite, shard, missing baseline). See docs/validation.md.";
@@ -60,6 +67,14 @@ pub struct Args {
     /// Only list the run ids (of the shard, if given) and exit
     #[arg(long)]
     pub list: bool,
+    /// Run this external integrator (rsts-integrator/1) instead of every case's methods
+    #[arg(long, value_name = "COMMAND")]
+    pub exec: Option<String>,
+    /// Name of the --exec integrator in run ids and reports
+    #[arg(long, value_name = "NAME", default_value = "exec", requires = "exec")]
+    pub exec_name: String,
+    #[command(flatten)]
+    pub timeout: TimeoutArgs,
 }
 
 #[derive(Debug, Clone, Subcommand)]
@@ -147,8 +162,25 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         bail!("--suite FILE is required (or `rsts validate merge DIR... --report DIR`)");
     };
     let shard: Option<Shard> = args.shard.as_deref().map(str::parse).transpose()?;
+    let exec = match &args.exec {
+        None => None,
+        Some(command) => {
+            let argv = rsts_external::split_command(command)
+                .map_err(|e| anyhow::anyhow!("--exec: {e}"))?;
+            if !(args.timeout.exec_timeout.is_finite() && args.timeout.exec_timeout > 0.0) {
+                bail!("--exec-timeout: must be a positive number of seconds");
+            }
+            Some((
+                args.exec_name.clone(),
+                AdapterSpec {
+                    command: argv,
+                    timeout: Some(args.timeout.exec_timeout),
+                },
+            ))
+        }
+    };
     if args.list {
-        let s = Suite::load(&suite)?;
+        let s = Suite::load_with(&suite, exec.as_ref().map(|(n, a)| (n.as_str(), a)))?;
         let runs = match shard {
             Some(sh) => sh.select(&s.runs),
             None => s.runs,
@@ -170,6 +202,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         baseline: args.baseline,
         shard,
         jobs: args.jobs.unwrap_or(0),
+        exec,
     };
     let done = AtomicUsize::new(0);
     let tty = std::io::stderr().is_terminal();

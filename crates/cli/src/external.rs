@@ -1,0 +1,32 @@
+//! Options shared by the commands that run an external integrator (`--exec`): compare, bench,
+//! validate. The protocol and the process handling are in `rsts-external`.
+
+use anyhow::anyhow;
+use clap::Args;
+use rsts_dynamics::integrators::Tolerances;
+use rsts_external::Exec;
+
+use crate::args::finite_f64;
+
+/// `--exec-timeout`.
+#[derive(Debug, Clone, Args)]
+pub struct TimeoutArgs {
+    /// Seconds an external integrator (--exec) may take before it is killed
+    #[arg(long, value_name = "S", default_value = "600", value_parser = finite_f64)]
+    pub exec_timeout: f64,
+}
+
+/// An external integrator from a command line, with the settings of a request.
+pub fn exec_integrator(
+    command: &str,
+    tolerances: Tolerances,
+    digits: Option<u32>,
+    timeout: f64,
+) -> anyhow::Result<Exec> {
+    let mut exec = Exec::new(command, tolerances).map_err(|e| anyhow!("--exec: {e}"))?;
+    if let Some(d) = digits {
+        exec = exec.with_digits(d).map_err(|e| anyhow!("--digits: {e}"))?;
+    }
+    exec.with_timeout(timeout)
+        .map_err(|e| anyhow!("--exec-timeout: {e}"))
+}

@@ -1,0 +1,16 @@
+//! The shape of the invariant manifold N (issue 11): its invariant relations and the partial
+//! integral M ([`relations`]), the regular distance from N ([`distance`]), the normal type of N
+//! ([`normal`]) and the inverse of the closed form, state → (m, h, camera, torus, ψ₁, ψ₂)
+//! ([`identify`]).
+
+pub mod distance;
+pub mod identify;
+pub mod normal;
+pub mod relations;
+pub mod torus_map;
+
+pub use distance::{distance, DistanceFromN};
+pub use identify::{identify, Identified, IdentifyError};
+pub use normal::{normal_type, Normal, NormalType};
+pub use relations::{m_of_integrals, Relations};
+pub use torus_map::TorusMap;

@@ -1,0 +1,528 @@
+//! External integrators: a program in any language that speaks `rsts-integrator/1` on its
+//! standard input and output is an [`Integrator`] like the built-in methods.
+//!
+//! rsts starts the command (split like a shell would, run without a shell), writes one JSON
+//! request on its stdin and closes it, and reads the answer from its stdout:
+//!
+//! ```text
+//! request: {"protocol": "rsts-integrator/1", "a": "1", "b": "0.5",
+//!           "initial": {"omega": ["…", "…", "…"], "alpha": [...], "beta": [...]},
+//!           "times": [0, 0.1, …], "rtol": 1e-10, "atol": 1e-10, "digits": 36}
+//! answer:  {"name": "my-rk4", "samples": [{"t": 0, "omega": [3], "alpha": [3], "beta": [3]}, …],
+//!           "stats": {"steps": 123, "rhs_evals": 492, "integration_seconds": 0.01}}
+//! ```
+//!
+//! Parameters and the initial state are decimal strings carrying `digits` digits (the exact
+//! values the closed-form reference uses, rounded to that many digits); times are JSON numbers,
+//! starting at 0. The answer has one sample per time; its numbers may be JSON numbers or decimal
+//! strings; `name` and `stats` are optional. Instead of JSON the answer may be the CSV of
+//! `rsts check` (header `t,omega1,…,beta3`). rsts measures the child's wall time; the
+//! `integration_seconds` of the answer, when present, is the time reported.
+//!
+//! A child that cannot start, exits with a non-zero status, outlives its timeout, writes
+//! something that is not an answer or the wrong number of samples is an error naming the command
+//! and showing the end of its stderr. The child runs in its own process group; the group is
+//! killed when the child is done or overdue, and the child is always waited for (no zombie).
+
+use std::collections::BTreeSet;
+use std::io::{Read, Write};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
+use std::thread;
+use std::time::{Duration, Instant};
+
+use rug::Float;
+use serde_json::{json, Value};
+
+use rsts_dynamics::integrators::{Problem, Stats, Tolerances};
+use rsts_dynamics::scalar::bits_for_digits;
+use rsts_harness::{check_times, HarnessError, Integrator, Trajectory};
+
+use crate::files::{parse_csv, parse_json};
+
+/// The protocol name a request carries.
+pub const PROTOCOL: &str = "rsts-integrator/1";
+/// Default time a child may take (seconds).
+pub const DEFAULT_TIMEOUT_SECONDS: f64 = 600.0;
+/// Default decimal digits of the parameters and initial state of a request.
+pub const DEFAULT_DIGITS: u32 = 36;
+/// Lines of a child's stderr shown in an error.
+const STDERR_TAIL_LINES: usize = 15;
+
+/// Process groups of the children now running (killed by [`kill_running`]).
+static RUNNING: Mutex<BTreeSet<i32>> = Mutex::new(BTreeSet::new());
+/// Set by [`kill_running`]: the children were stopped on purpose.
+static STOPPED: AtomicBool = AtomicBool::new(false);
+
+/// Kill every external integrator this process is running (for a Ctrl-C handler); their runs
+/// end with an error saying they were stopped.
+pub fn kill_running() {
+    STOPPED.store(true, Ordering::SeqCst);
+    if let Ok(set) = RUNNING.try_lock() {
+        for &pgid in set.iter() {
+            kill_group(pgid);
+        }
+    }
+}
+
+fn kill_group(pgid: i32) {
+    // SAFETY: kill(2) with a negative pid signals a process group; no memory is involved.
+    unsafe {
+        libc::kill(-pgid, libc::SIGKILL);
+    }
+}
+
+/// Split a command line like a POSIX shell would (quotes, backslashes), without running a shell.
+pub fn split_command(command: &str) -> Result<Vec<String>, String> {
+    let argv = shlex::split(command).ok_or_else(|| {
+        format!("cannot split `{command}`: unbalanced quotes or a trailing backslash")
+    })?;
+    if argv.is_empty() {
+        return Err("the command is empty".into());
+    }
+    Ok(argv)
+}
+
+/// An external integrator: a command and the settings sent with every request.
+#[derive(Clone, Debug)]
+pub struct Exec {
+    argv: Vec<String>,
+    /// Name given by the user (a suite's adapter name); else the answer's, else the program's.
+    name: Option<String>,
+    answered_name: Option<String>,
+    pub tolerances: Tolerances,
+    /// Digits of the parameters and initial state in the request (also the precision the
+    /// reference must exceed).
+    pub digits: u32,
+    pub timeout: Duration,
+}
+
+impl Exec {
+    /// A command line, split like a shell would.
+    pub fn new(command: &str, tolerances: Tolerances) -> Result<Self, String> {
+        Self::from_argv(split_command(command)?, tolerances)
+    }
+
+    /// A command as its words (program first).
+    pub fn from_argv(argv: Vec<String>, tolerances: Tolerances) -> Result<Self, String> {
+        if argv.is_empty() || argv[0].is_empty() {
+            return Err("the command is empty".into());
+        }
+        Ok(Self {
+            argv,
+            name: None,
+            answered_name: None,
+            tolerances,
+            digits: DEFAULT_DIGITS,
+            timeout: Duration::from_secs_f64(DEFAULT_TIMEOUT_SECONDS),
+        })
+    }
+
+    /// Report under this name whatever the answer says.
+    pub fn named(mut self, name: impl Into<String>) -> Self {
+        self.name = Some(name.into());
+        self
+    }
+
+    /// Digits of the request (10 to 10000).
+    pub fn with_digits(mut self, digits: u32) -> Result<Self, String> {
+        if !(10..=10_000).contains(&digits) {
+            return Err(format!("digits must be between 10 and 10000, got {digits}"));
+        }
+        self.digits = digits;
+        Ok(self)
+    }
+
+    /// Time the child may take (positive, finite seconds).
+    pub fn with_timeout(mut self, seconds: f64) -> Result<Self, String> {
+        if !(seconds.is_finite() && seconds > 0.0) {
+            return Err(format!(
+                "the timeout must be a positive number of seconds, got {seconds}"
+            ));
+        }
+        self.timeout = Duration::from_secs_f64(seconds);
+        Ok(self)
+    }
+
+    /// The command as a shell-quoted line (for messages).
+    pub fn command_line(&self) -> String {
+        shlex::try_join(self.argv.iter().map(String::as_str))
+            .unwrap_or_else(|_| self.argv.join(" "))
+    }
+
+    /// The name of the program and its arguments, directories dropped.
+    fn program_name(&self) -> String {
+        let mut words: Vec<String> = self
+            .argv
+            .iter()
+            .map(|w| w.rsplit('/').next().unwrap_or(w).to_string())
+            .collect();
+        words.retain(|w| !w.is_empty());
+        words.join(" ")
+    }
+
+    /// The request for `problem` through `times` (decimal strings of `digits` digits).
+    pub fn request(&self, problem: &Problem<Float>, times: &[f64]) -> Value {
+        let d = Some(self.digits as usize);
+        let dec = |x: &Float| x.to_string_radix(10, d);
+        let v3 = |v: &[Float; 3]| [dec(&v[0]), dec(&v[1]), dec(&v[2])];
+        json!({
+            "protocol": PROTOCOL,
+            "a": dec(&problem.fields.a),
+            "b": dec(&problem.fields.b),
+            "initial": {
+                "omega": v3(&problem.initial.omega),
+                "alpha": v3(&problem.initial.alpha),
+                "beta": v3(&problem.initial.beta),
+            },
+            "times": times,
+            "rtol": self.tolerances.rtol,
+            "atol": self.tolerances.atol,
+            "digits": self.digits,
+        })
+    }
+
+    fn fail(&self, what: impl std::fmt::Display, stderr: &[u8]) -> HarnessError {
+        HarnessError::Integrator(format!(
+            "external integrator `{}`: {what}{}",
+            self.command_line(),
+            stderr_tail(stderr)
+        ))
+    }
+
+    /// Run the child on `request`: its stdout, stderr and wall time.
+    pub fn run_raw(&self, request: &[u8]) -> Result<(Vec<u8>, Vec<u8>, f64), HarnessError> {
+        let mut cmd = Command::new(&self.argv[0]);
+        cmd.args(&self.argv[1..])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        #[cfg(unix)]
+        std::os::unix::process::CommandExt::process_group(&mut cmd, 0);
+        let started = Instant::now();
+        let mut child = cmd.spawn().map_err(|e| {
+            HarnessError::Integrator(format!(
+                "external integrator `{}`: cannot start `{}`: {e}",
+                self.command_line(),
+                self.argv[0]
+            ))
+        })?;
+        let pgid = child.id() as i32;
+        if let Ok(mut set) = RUNNING.lock() {
+            set.insert(pgid);
+        }
+        let result = self.talk(&mut child, request, started);
+        // Whatever happened: no process of the group left behind, the child reaped.
+        kill_group(pgid);
+        let _ = child.wait();
+        if let Ok(mut set) = RUNNING.lock() {
+            set.remove(&pgid);
+        }
+        result
+    }
+
+    fn talk(
+        &self,
+        child: &mut Child,
+        request: &[u8],
+        started: Instant,
+    ) -> Result<(Vec<u8>, Vec<u8>, f64), HarnessError> {
+        let mut stdin = child.stdin.take().expect("piped");
+        let request = request.to_vec();
+        // A child that does not read its input must not block us: write from a thread, and
+        // ignore a broken pipe (its exit status and answer tell what went wrong).
+        let writer = thread::spawn(move || {
+            let _ = stdin.write_all(&request);
+        });
+        let reader = |mut r: Box<dyn Read + Send>| {
+            thread::spawn(move || {
+                let mut buf = Vec::new();
+                let _ = r.read_to_end(&mut buf);
+                buf
+            })
+        };
+        let out = reader(Box::new(child.stdout.take().expect("piped")));
+        let err = reader(Box::new(child.stderr.take().expect("piped")));
+        let status = wait_until(child, started + self.timeout);
+        let wall = started.elapsed().as_secs_f64();
+        if status.is_none() {
+            kill_group(child.id() as i32);
+        }
+        let _ = child.wait();
+        kill_group(child.id() as i32);
+        let _ = writer.join();
+        let stdout = out.join().unwrap_or_default();
+        let stderr = err.join().unwrap_or_default();
+        match status {
+            None => Err(self.fail(
+                format_args!(
+                    "no answer within {} s (the timeout, --exec-timeout); the process was killed",
+                    self.timeout.as_secs_f64()
+                ),
+                &stderr,
+            )),
+            Some(_) if STOPPED.load(Ordering::SeqCst) => {
+                Err(self.fail("stopped (Ctrl-C)", &stderr))
+            }
+            Some(s) if !s.success() => Err(self.fail(describe_status(s), &stderr)),
+            Some(_) => Ok((stdout, stderr, wall)),
+        }
+    }
+
+    /// Parse an answer for `times` into states at `bits` bits.
+    pub fn parse_answer(
+        &mut self,
+        stdout: &[u8],
+        stderr: &[u8],
+        times: &[f64],
+        bits: u32,
+    ) -> Result<(Vec<rsts_dynamics::State<Float>>, Stats), HarnessError> {
+        let text = std::str::from_utf8(stdout)
+            .map_err(|_| self.fail("its answer is not UTF-8 text", stderr))?;
+        let garbage = |e: String| {
+            let start: String = text.trim().chars().take(200).collect();
+            self.fail(
+                format_args!(
+                    "its answer is not an rsts-integrator/1 answer ({e}); it begins with: {start:?}"
+                ),
+                stderr,
+            )
+        };
+        if text.trim().is_empty() {
+            return Err(self.fail("it wrote no answer on stdout", stderr));
+        }
+        let mut answered = None;
+        let (raw, stats) = if text.trim_start().starts_with('{') {
+            let doc: Value =
+                serde_json::from_str(text).map_err(|e| garbage(format!("invalid JSON: {e}")))?;
+            if let Some(name) = doc.get("name") {
+                let name = name
+                    .as_str()
+                    .filter(|s| !s.trim().is_empty())
+                    .ok_or_else(|| garbage("\"name\" must be a non-empty string".into()))?;
+                answered = Some(name.to_string());
+            }
+            let stats = parse_stats(doc.get("stats")).map_err(garbage)?;
+            (parse_json(&doc).map_err(garbage)?, stats)
+        } else {
+            (parse_csv(text).map_err(garbage)?, (None, None, None))
+        };
+        if answered.is_some() {
+            self.answered_name = answered;
+        }
+        if raw.len() != times.len() {
+            return Err(self.fail(
+                format_args!(
+                    "it answered {} samples for {} requested times",
+                    raw.len(),
+                    times.len()
+                ),
+                stderr,
+            ));
+        }
+        for (k, (t, want)) in raw.times.iter().zip(times).enumerate() {
+            let got = t.to_f64();
+            if (got - want).abs() > 1e-12 * want.abs().max(1.0) {
+                return Err(self.fail(
+                    format_args!("sample {k} is at t = {got}, requested t = {want}"),
+                    stderr,
+                ));
+            }
+        }
+        let samples = raw.to_samples(bits);
+        let (steps, rhs_evals, seconds) = stats;
+        Ok((
+            samples.states,
+            Stats {
+                accepted_steps: steps.unwrap_or(0),
+                rejected_steps: 0,
+                rhs_evals: rhs_evals.unwrap_or(0),
+                integration_seconds: seconds.unwrap_or(f64::NAN),
+            },
+        ))
+    }
+}
+
+type AnswerStats = (Option<u64>, Option<u64>, Option<f64>);
+
+/// `stats` of an answer: every field optional, numbers or decimal strings.
+fn parse_stats(v: Option<&Value>) -> Result<AnswerStats, String> {
+    let Some(v) = v else {
+        return Ok((None, None, None));
+    };
+    if v.is_null() {
+        return Ok((None, None, None));
+    }
+    if !v.is_object() {
+        return Err("\"stats\" must be an object".into());
+    }
+    let num = |key: &str| -> Result<Option<f64>, String> {
+        let x = match v.get(key) {
+            None | Some(Value::Null) => return Ok(None),
+            Some(Value::Number(n)) => n.as_f64(),
+            Some(Value::String(s)) => s.trim().parse().ok(),
+            Some(_) => None,
+        };
+        match x {
+            Some(x) if x.is_finite() && x >= 0.0 => Ok(Some(x)),
+            _ => Err(format!("stats.{key} must be a non-negative number")),
+        }
+    };
+    let count = |key: &str| -> Result<Option<u64>, String> {
+        match num(key)? {
+            Some(x) if x.fract() == 0.0 => Ok(Some(x as u64)),
+            Some(_) => Err(format!("stats.{key} must be a whole number")),
+            None => Ok(None),
+        }
+    };
+    Ok((
+        count("steps")?,
+        count("rhs_evals")?,
+        num("integration_seconds")?,
+    ))
+}
+
+/// Wait for the child until `deadline`; `None` when it is still running then.
+fn wait_until(child: &mut Child, deadline: Instant) -> Option<ExitStatus> {
+    let mut pause = Duration::from_micros(200);
+    loop {
+        match child.try_wait() {
+            Ok(Some(status)) => return Some(status),
+            Ok(None) => {}
+            Err(_) => return None,
+        }
+        let now = Instant::now();
+        if now >= deadline {
+            return None;
+        }
+        thread::sleep(pause.min(deadline - now));
+        pause = (pause * 2).min(Duration::from_millis(20));
+    }
+}
+
+fn describe_status(s: ExitStatus) -> String {
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        if let Some(sig) = s.signal() {
+            return format!("killed by signal {sig}");
+        }
+    }
+    match s.code() {
+        Some(c) => format!("exited with status {c}"),
+        None => "exited abnormally".into(),
+    }
+}
+
+/// The last lines of a child's stderr, indented; "(its stderr is empty)" when there is none.
+pub fn stderr_tail(stderr: &[u8]) -> String {
+    let text = String::from_utf8_lossy(stderr);
+    let lines: Vec<&str> = text.trim_end().lines().collect();
+    if lines.is_empty() {
+        return " (its stderr is empty)".into();
+    }
+    let from = lines.len().saturating_sub(STDERR_TAIL_LINES);
+    let shown: Vec<String> = lines[from..]
+        .iter()
+        .map(|l| {
+            let l: String = l.chars().take(300).collect();
+            format!("  | {l}")
+        })
+        .collect();
+    format!(
+        "; {} of its stderr:\n{}",
+        if from > 0 { "the end" } else { "all" },
+        shown.join("\n")
+    )
+}
+
+impl Integrator for Exec {
+    fn name(&self) -> String {
+        self.name
+            .clone()
+            .or_else(|| self.answered_name.clone())
+            .unwrap_or_else(|| self.program_name())
+    }
+
+    fn tolerances(&self) -> Option<Tolerances> {
+        Some(self.tolerances)
+    }
+
+    fn working_bits(&self) -> u32 {
+        bits_for_digits(self.digits)
+    }
+
+    fn digits(&self) -> u32 {
+        self.digits
+    }
+
+    fn integrate(
+        &mut self,
+        problem: &Problem<Float>,
+        times: &[f64],
+    ) -> Result<Trajectory, HarnessError> {
+        check_times(times)?;
+        let bits = problem.initial.omega[0].prec();
+        let request = serde_json::to_vec(&self.request(problem, times))
+            .map_err(|e| HarnessError::Integrator(format!("cannot write the request: {e}")))?;
+        let (stdout, stderr, wall) = self.run_raw(&request)?;
+        let (states, mut stats) = self.parse_answer(&stdout, &stderr, times, bits)?;
+        if stats.integration_seconds.is_nan() {
+            stats.integration_seconds = wall;
+        }
+        Ok(Trajectory {
+            times: times.to_vec(),
+            states,
+            stats,
+            wall_seconds: Some(wall),
+        })
+    }
+
+    fn restartable(&self) -> bool {
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn commands_are_split_like_a_shell_would() {
+        assert_eq!(
+            split_command(r#"python3 "my adapter.py" --m 'a b' x\ y"#).unwrap(),
+            vec!["python3", "my adapter.py", "--m", "a b", "x y"]
+        );
+        assert!(split_command("").is_err());
+        assert!(split_command("   ").is_err());
+        assert!(split_command("python3 'open")
+            .unwrap_err()
+            .contains("unbalanced"));
+    }
+
+    #[test]
+    fn stats_are_optional_numbers_or_strings() {
+        let s = parse_stats(Some(
+            &json!({"steps": 10, "rhs_evals": "40", "integration_seconds": 0.5}),
+        ))
+        .unwrap();
+        assert_eq!(s, (Some(10), Some(40), Some(0.5)));
+        assert_eq!(parse_stats(None).unwrap(), (None, None, None));
+        assert!(parse_stats(Some(&json!({"steps": -1}))).is_err());
+        assert!(parse_stats(Some(&json!({"steps": 1.5}))).is_err());
+        assert!(parse_stats(Some(&json!([1]))).is_err());
+    }
+
+    #[test]
+    fn the_stderr_tail_keeps_the_last_lines() {
+        let text: String = (0..40).map(|k| format!("line {k}\n")).collect();
+        let tail = stderr_tail(text.as_bytes());
+        assert!(
+            tail.contains("line 39") && !tail.contains("line 24\n"),
+            "{tail}"
+        );
+        assert!(tail.starts_with("; the end of its stderr"));
+        assert_eq!(stderr_tail(b""), " (its stderr is empty)");
+    }
+}

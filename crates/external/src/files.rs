@@ -1,0 +1,381 @@
+//! Trajectory files computed elsewhere, read for `rsts check` (and answers of external
+//! integrators): CSV, JSON, npy and the `/integrated/state` channel of an rsts MCAP log.
+//!
+//! Every error names what is wrong and where: the line and column of a CSV, the JSON path of a
+//! sample, the row and column of an npy array, the message of an MCAP log.
+
+use std::path::Path;
+
+use serde_json::Value;
+
+use crate::samples::{check_f64, check_text, Number, RawTrajectory};
+
+/// Columns every trajectory has, in the order of `rsts explicit --format csv` and
+/// `rsts integrate --format csv`.
+pub const COLUMNS: [&str; 10] = [
+    "t", "omega1", "omega2", "omega3", "alpha1", "alpha2", "alpha3", "beta1", "beta2", "beta3",
+];
+
+/// The formats `rsts check` reads, by file extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileFormat {
+    Csv,
+    Json,
+    Npy,
+    Mcap,
+}
+
+impl FileFormat {
+    /// The format of a file name (`.csv`, `.json`, `.npy`, `.mcap`, any case).
+    pub fn of(path: &Path) -> Result<Self, String> {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        match ext.as_str() {
+            "csv" => Ok(Self::Csv),
+            "json" => Ok(Self::Json),
+            "npy" => Ok(Self::Npy),
+            "mcap" => Ok(Self::Mcap),
+            _ => Err(format!(
+                "{}: unknown file type '{}' (expected .csv, .json, .npy or .mcap)",
+                path.display(),
+                ext
+            )),
+        }
+    }
+}
+
+/// Read a trajectory file by its extension. The message of an error starts with the file name.
+pub fn read_trajectory(path: &Path) -> Result<RawTrajectory, String> {
+    let name = path.display().to_string();
+    let format = FileFormat::of(path)?;
+    let raw = match format {
+        FileFormat::Csv | FileFormat::Json => {
+            let bytes = std::fs::read(path).map_err(|e| format!("{name}: cannot read ({e})"))?;
+            let text = String::from_utf8(bytes).map_err(|e| {
+                format!(
+                    "{name}: not UTF-8 text (byte {})",
+                    e.utf8_error().valid_up_to()
+                )
+            })?;
+            if format == FileFormat::Csv {
+                parse_csv(&text)
+            } else {
+                let value: Value = serde_json::from_str(&text)
+                    .map_err(|e| format!("{name}: not valid JSON ({e})"))?;
+                parse_json(&value)
+            }
+        }
+        FileFormat::Npy => {
+            let bytes = std::fs::read(path).map_err(|e| format!("{name}: cannot read ({e})"))?;
+            parse_npy(&bytes)
+        }
+        FileFormat::Mcap => read_mcap(path),
+    }
+    .map_err(|e| format!("{name}: {e}"))?;
+    if raw.is_empty() {
+        return Err(format!("{name}: no samples"));
+    }
+    raw.check_times().map_err(|e| format!("{name}: {e}"))?;
+    Ok(raw)
+}
+
+/// Strip RFC 4180 quotes from a field.
+fn unquote(s: &str) -> &str {
+    let t = s.trim();
+    t.strip_prefix('"')
+        .and_then(|x| x.strip_suffix('"'))
+        .unwrap_or(t)
+}
+
+/// CSV with a header naming at least the ten [`COLUMNS`] (any order; other columns are
+/// ignored). A header written by `numpy.savetxt(..., header=...)` (starting with `# `) is
+/// accepted; other lines starting with `#` and blank lines are skipped.
+pub fn parse_csv(text: &str) -> Result<RawTrajectory, String> {
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(k, l)| (k + 1, l.trim_end_matches('\r')));
+    let (header_line, header) = loop {
+        match lines.next() {
+            None => return Err("empty: no header line".into()),
+            Some((_, l)) if l.trim().is_empty() => continue,
+            Some((k, l)) => break (k, l.trim_start_matches('#').trim()),
+        }
+    };
+    let names: Vec<&str> = header.split(',').map(unquote).collect();
+    let mut index = [0usize; 10];
+    let mut missing = Vec::new();
+    for (slot, col) in index.iter_mut().zip(COLUMNS) {
+        match names.iter().position(|n| *n == col) {
+            Some(i) => *slot = i,
+            None => missing.push(col),
+        }
+    }
+    if !missing.is_empty() {
+        return Err(format!(
+            "line {header_line}: the header lacks column(s) {} (need {})",
+            missing.join(", "),
+            COLUMNS.join(",")
+        ));
+    }
+    let mut raw = RawTrajectory::default();
+    for (k, line) in lines {
+        if line.trim().is_empty() || line.trim_start().starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = line.split(',').map(unquote).collect();
+        if fields.len() != names.len() {
+            return Err(format!(
+                "line {k}: {} fields, the header has {} (a truncated or malformed row)",
+                fields.len(),
+                names.len()
+            ));
+        }
+        let value = |c: usize| {
+            check_text(fields[index[c]])
+                .map_err(|e| format!("line {k}, column {} ({}): {e}", index[c] + 1, COLUMNS[c]))
+        };
+        let t = value(0)?;
+        let mut state: [Number; 9] = std::array::from_fn(|_| Number::F64(0.0));
+        for (c, slot) in state.iter_mut().enumerate() {
+            *slot = value(c + 1)?;
+        }
+        raw.push(t, state, format!("line {k}"));
+    }
+    Ok(raw)
+}
+
+/// A number or a decimal string.
+fn json_number(v: &Value) -> Result<Number, String> {
+    match v {
+        Value::Number(n) => check_f64(n.as_f64().unwrap_or(f64::NAN)),
+        Value::String(s) => check_text(s),
+        other => Err(format!(
+            "expected a number or a decimal string, got {other}"
+        )),
+    }
+}
+
+/// The `samples` of `rsts integrate --format json` (or of an external integrator's answer):
+/// `{"samples": [{"t", "omega": [3], "alpha": [3], "beta": [3], ...}]}`, values as numbers or
+/// decimal strings; other keys are ignored.
+pub fn parse_json(doc: &Value) -> Result<RawTrajectory, String> {
+    let samples = doc
+        .get("samples")
+        .ok_or_else(|| {
+            "expected an object with \"samples\": [{\"t\", \"omega\", \"alpha\", \"beta\"}, ...]"
+                .to_string()
+        })?
+        .as_array()
+        .ok_or_else(|| "\"samples\" must be an array".to_string())?;
+    let mut raw = RawTrajectory::default();
+    for (k, s) in samples.iter().enumerate() {
+        let place = format!("samples[{k}]");
+        let t = s
+            .get("t")
+            .ok_or_else(|| format!("{place}: no \"t\""))
+            .and_then(|t| json_number(t).map_err(|e| format!("{place}.t: {e}")))?;
+        let mut state: [Number; 9] = std::array::from_fn(|_| Number::F64(0.0));
+        for (v, key) in ["omega", "alpha", "beta"].iter().enumerate() {
+            let arr = s
+                .get(key)
+                .and_then(Value::as_array)
+                .filter(|a| a.len() == 3)
+                .ok_or_else(|| format!("{place}: \"{key}\" must be an array of 3 numbers"))?;
+            for (i, x) in arr.iter().enumerate() {
+                state[3 * v + i] =
+                    json_number(x).map_err(|e| format!("{place}.{key}[{i}]: {e}"))?;
+            }
+        }
+        raw.push(t, state, place);
+    }
+    Ok(raw)
+}
+
+/// An npy file (as `numpy.save` writes it): float64, shape (N, 10), columns t and the nine
+/// components; C or Fortran order.
+pub fn parse_npy(bytes: &[u8]) -> Result<RawTrajectory, String> {
+    let npy = npyz::NpyFile::new(bytes).map_err(|e| format!("not a valid npy file ({e})"))?;
+    let dtype = match npy.dtype() {
+        npyz::DType::Plain(ts) => ts.to_string(),
+        other => other.descr(),
+    };
+    if dtype != "<f8" && dtype != ">f8" {
+        return Err(format!(
+            "dtype {dtype}: expected float64 ('<f8'); save with numpy.asarray(x, dtype=numpy.float64)"
+        ));
+    }
+    let shape = npy.shape().to_vec();
+    if shape.len() != 2 || shape[1] != 10 {
+        return Err(format!(
+            "shape {shape:?}: expected (N, 10) (columns {})",
+            COLUMNS.join(",")
+        ));
+    }
+    let order = npy.order();
+    let rows = shape[0] as usize;
+    let data: Vec<f64> = npy.into_vec().map_err(|e| {
+        format!("truncated or damaged data: {e} (expected {rows} rows of 10 float64)")
+    })?;
+    if data.len() != rows * 10 {
+        return Err(format!(
+            "truncated: {} values, expected {rows} rows of 10",
+            data.len()
+        ));
+    }
+    let at = |r: usize, c: usize| match order {
+        npyz::Order::C => data[r * 10 + c],
+        npyz::Order::Fortran => data[c * rows + r],
+    };
+    let mut raw = RawTrajectory::default();
+    for r in 0..rows {
+        let cell = |c: usize| {
+            check_f64(at(r, c))
+                .map_err(|e| format!("row {}, column {} ({}): {e}", r + 1, c + 1, COLUMNS[c]))
+        };
+        let t = cell(0)?;
+        let mut state: [Number; 9] = std::array::from_fn(|_| Number::F64(0.0));
+        for (c, slot) in state.iter_mut().enumerate() {
+            *slot = cell(c + 1)?;
+        }
+        raw.push(t, state, format!("row {}", r + 1));
+    }
+    Ok(raw)
+}
+
+/// The `/integrated/state` channel of an rsts MCAP log (`rsts compare --mcap`, `rsts check
+/// --mcap`). A damaged log is refused (with how to recover what it holds).
+pub fn read_mcap(path: &Path) -> Result<RawTrajectory, String> {
+    let topic = rsts_mcap::topics::INTEGRATED_STATE;
+    let series = rsts_mcap::inspect::extract(path, topic).map_err(|e| e.to_string())?;
+    if series.recovered {
+        return Err(format!(
+            "the MCAP file is damaged ({}); extract what it holds with `rsts inspect {} --channel {topic} --format csv`",
+            series.notes.join("; "),
+            path.display()
+        ));
+    }
+    let mut raw = RawTrajectory::default();
+    for (k, p) in series.points.iter().enumerate() {
+        let place = format!("message {} of {topic}", k + 1);
+        let num = |v: Option<&Value>, what: &str| -> Result<Number, String> {
+            v.and_then(Value::as_f64)
+                .ok_or_else(|| format!("{place}: no number {what}"))
+                .and_then(|x| check_f64(x).map_err(|e| format!("{place}: {what}: {e}")))
+        };
+        let t = num(p.value.get("t"), "t")?;
+        let mut state: [Number; 9] = std::array::from_fn(|_| Number::F64(0.0));
+        for (v, key) in ["omega", "alpha", "beta"].iter().enumerate() {
+            for i in 0..3 {
+                state[3 * v + i] = num(
+                    p.value.get(key).and_then(|a| a.get(i)),
+                    &format!("{key}[{i}]"),
+                )?;
+            }
+        }
+        raw.push(t, state, place);
+    }
+    Ok(raw)
+}
+
+/// Write `rows` (t and the nine components, or more columns) as an npy float64 array of shape
+/// (N, width), C order, version 1.0 (what `numpy.save` writes).
+pub fn npy_bytes(rows: &[Vec<f64>], width: usize) -> Vec<u8> {
+    let mut header = format!(
+        "{{'descr': '<f8', 'fortran_order': False, 'shape': ({}, {width}), }}",
+        rows.len()
+    );
+    // Magic (6) + version (2) + length (2) + header + '\n', padded to a multiple of 64.
+    let total = 10 + header.len() + 1;
+    header.push_str(&" ".repeat((64 - total % 64) % 64));
+    header.push('\n');
+    let mut out = Vec::with_capacity(10 + header.len() + 8 * rows.len() * width);
+    out.extend_from_slice(b"\x93NUMPY\x01\x00");
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
+    for row in rows {
+        debug_assert_eq!(row.len(), width);
+        for x in row {
+            out.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str = "t,omega1,omega2,omega3,alpha1,alpha2,alpha3,beta1,beta2,beta3";
+
+    #[test]
+    fn csv_with_extra_and_reordered_columns() {
+        let text =
+            format!("H,{HEADER}\n1.5,0,0.1,0.2,0.3,1,0,0,0,1,0\n9,0.5,0.1,0.2,0.3,1,0,0,0,1,0\n");
+        let raw = parse_csv(&text).unwrap();
+        assert_eq!(raw.len(), 2);
+        assert_eq!(raw.times[1], Number::Text("0.5".into()));
+        assert_eq!(raw.states[0][0], Number::Text("0.1".into()));
+        assert_eq!(raw.places[1], "line 3");
+        let numpy = format!("# {HEADER}\n0,0,0,0,1,0,0,0,1,0\n");
+        assert_eq!(parse_csv(&numpy).unwrap().len(), 1);
+    }
+
+    #[test]
+    fn csv_errors_name_line_and_column() {
+        let e = parse_csv("t,omega1\n0,1\n").unwrap_err();
+        assert!(e.contains("lacks column(s) omega2"), "{e}");
+        let e = parse_csv(&format!(
+            "{HEADER}\n0,0,0,0,1,0,0,0,1,0\n1,0,nan,0,1,0,0,0,1,0\n"
+        ))
+        .unwrap_err();
+        assert!(
+            e.starts_with("line 3, column 3 (omega2)") && e.contains("NaN"),
+            "{e}"
+        );
+        let e = parse_csv(&format!("{HEADER}\n0,0,0,0,1,0,0\n")).unwrap_err();
+        assert!(e.starts_with("line 2: 7 fields, the header has 10"), "{e}");
+        assert!(parse_csv("").unwrap_err().contains("empty"));
+    }
+
+    #[test]
+    fn json_samples_with_numbers_and_strings() {
+        let doc: Value = serde_json::from_str(
+            r#"{"samples": [{"t": 0, "omega": [0.1, "0.2", 0.3], "alpha": [1, 0, 0], "beta": [0, 1, 0], "H": 3}]}"#,
+        )
+        .unwrap();
+        let raw = parse_json(&doc).unwrap();
+        assert_eq!(raw.states[0][1], Number::Text("0.2".into()));
+        let bad: Value =
+            serde_json::from_str(r#"{"samples": [{"t": 0, "omega": [0.1, 0.3], "alpha": [1, 0, 0], "beta": [0, 1, 0]}]}"#)
+                .unwrap();
+        let e = parse_json(&bad).unwrap_err();
+        assert!(e.starts_with("samples[0]: \"omega\""), "{e}");
+        let e = parse_json(&serde_json::json!({"rows": []})).unwrap_err();
+        assert!(e.contains("\"samples\""), "{e}");
+    }
+
+    #[test]
+    fn npy_round_trip_and_errors() {
+        let rows: Vec<Vec<f64>> = (0..3)
+            .map(|k| (0..10).map(|c| k as f64 + 0.1 * c as f64).collect())
+            .collect();
+        let bytes = npy_bytes(&rows, 10);
+        assert_eq!((bytes.len() - 8 * 30) % 64, 0, "header padded to 64");
+        let raw = parse_npy(&bytes).unwrap();
+        assert_eq!(raw.len(), 3);
+        assert_eq!(raw.states[2][8], Number::F64(2.0 + 0.9));
+        let e = parse_npy(&bytes[..bytes.len() - 5]).unwrap_err();
+        assert!(e.contains("truncated"), "{e}");
+        let e = parse_npy(&npy_bytes(&[vec![0.0; 9]], 9)).unwrap_err();
+        assert!(e.contains("shape [1, 9]"), "{e}");
+        let e = parse_npy(b"hello").unwrap_err();
+        assert!(e.contains("not a valid npy"), "{e}");
+        let mut nan = rows.clone();
+        nan[1][4] = f64::NAN;
+        let e = parse_npy(&npy_bytes(&nan, 10)).unwrap_err();
+        assert!(e.starts_with("row 2, column 5 (alpha1)"), "{e}");
+    }
+}

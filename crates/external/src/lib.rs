@@ -1,0 +1,22 @@
+//! Integrators and trajectories from outside rsts (issue 10).
+//!
+//! - [`exec`]: an external program speaking `rsts-integrator/1` on stdin/stdout is an
+//!   [`rsts_harness::Integrator`] ([`Exec`]), usable in `compare`, `bench` and suites like a
+//!   built-in method;
+//! - [`files`]: trajectories computed elsewhere (CSV, JSON, npy, the `/integrated/state` channel
+//!   of an MCAP log) for `rsts check`, with errors naming file, row and column;
+//! - [`samples`]: the values as read and the one rule that turns them into numbers (f64 data
+//!   or exact high-precision decimals).
+//!
+//! Integrators written in Rust do not need this crate: implement
+//! [`rsts_dynamics::integrators::Propagator`] and wrap it in [`rsts_harness::Propagated`].
+
+pub mod exec;
+pub mod files;
+pub mod samples;
+
+pub use exec::{
+    kill_running, split_command, Exec, DEFAULT_DIGITS, DEFAULT_TIMEOUT_SECONDS, PROTOCOL,
+};
+pub use files::{npy_bytes, read_trajectory, FileFormat, COLUMNS};
+pub use samples::{Number, RawTrajectory, Samples};

@@ -1,0 +1,255 @@
+//! Samples read from outside (a file, a process's answer): values as they were written, then
+//! converted to high-precision numbers by one rule.
+//!
+//! **The precision rule.** A trajectory whose values all have at most 17 significant digits is
+//! taken as `f64` data: each value is the `f64` nearest to its decimal text (what any program
+//! that prints `f64`s with round-trip precision meant), widened exactly. A trajectory with any
+//! longer value is high-precision data: its decimal texts are read exactly at the reference
+//! precision (and JSON numbers, which are `f64` by nature, exactly as `f64`).
+
+use rsts_dynamics::State;
+use rug::Float;
+
+/// Significant digits above which a value is read as a high-precision decimal.
+pub const F64_TEXT_DIGITS: usize = 17;
+
+/// One number as it was written.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Number {
+    /// A binary64 value (a JSON number, an npy float64, an MCAP field).
+    F64(f64),
+    /// A decimal text (a CSV field, a JSON string), already checked to be a finite number.
+    Text(String),
+}
+
+impl Number {
+    /// Significant digits of a decimal text (0 for an `f64`).
+    pub fn digits(&self) -> usize {
+        match self {
+            Number::F64(_) => 0,
+            Number::Text(s) => significant_digits(s),
+        }
+    }
+
+    /// The value at `bits`: see the module doc for `high` (true: high-precision data).
+    pub fn to_float(&self, bits: u32, high: bool) -> Float {
+        match self {
+            Number::F64(x) => Float::with_val(bits, *x),
+            Number::Text(s) if high => {
+                Float::with_val(bits, Float::parse(s).expect("checked when read"))
+            }
+            Number::Text(s) => Float::with_val(bits, s.parse::<f64>().expect("checked when read")),
+        }
+    }
+
+    /// The value rounded to f64.
+    pub fn to_f64(&self) -> f64 {
+        match self {
+            Number::F64(x) => *x,
+            Number::Text(s) => s.parse().expect("checked when read"),
+        }
+    }
+}
+
+/// Digits of the mantissa of a decimal text, leading zeros not counted.
+pub fn significant_digits(s: &str) -> usize {
+    let mantissa = s.split(['e', 'E']).next().unwrap_or("");
+    let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
+    let trimmed = digits.trim_start_matches('0');
+    trimmed.len().max(1)
+}
+
+/// Check a decimal text: a finite number (as f64 it may over- or underflow only when it has more
+/// than 17 digits and is read exactly). Returns why not.
+pub fn check_text(s: &str) -> Result<Number, String> {
+    let t = s.trim();
+    if t.is_empty() {
+        return Err("empty value".into());
+    }
+    let lower = t.to_ascii_lowercase();
+    if lower.contains("nan") {
+        return Err(format!("'{t}' is not a finite number (NaN)"));
+    }
+    if lower.contains("inf") {
+        return Err(format!("'{t}' is not a finite number (infinite)"));
+    }
+    match t.parse::<f64>() {
+        Ok(x) if x.is_finite() => {}
+        Ok(_) => return Err(format!("'{t}' overflows (not a finite number)")),
+        Err(_) => return Err(format!("'{t}' is not a number")),
+    }
+    if Float::parse(t).is_err() {
+        return Err(format!("'{t}' is not a number"));
+    }
+    Ok(Number::Text(t.to_string()))
+}
+
+/// Check an f64 value.
+pub fn check_f64(x: f64) -> Result<Number, String> {
+    if x.is_finite() {
+        Ok(Number::F64(x))
+    } else {
+        Err(format!("{x} is not a finite number"))
+    }
+}
+
+/// A trajectory as read: one time and nine components (ω, α, β) per sample, each sample with
+/// the place it came from (for messages).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RawTrajectory {
+    pub times: Vec<Number>,
+    pub states: Vec<[Number; 9]>,
+    /// Where sample k was read ("line 5", "samples[3]", "row 4", "message 7").
+    pub places: Vec<String>,
+}
+
+/// A trajectory at a precision, with absolute times.
+#[derive(Clone, Debug)]
+pub struct Samples {
+    pub times: Vec<Float>,
+    pub states: Vec<State<Float>>,
+    /// The most significant digits of any value (0: all values are f64).
+    pub digits: usize,
+}
+
+impl RawTrajectory {
+    pub fn len(&self) -> usize {
+        self.times.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.times.is_empty()
+    }
+
+    /// Add one sample.
+    pub fn push(&mut self, t: Number, state: [Number; 9], place: String) {
+        self.times.push(t);
+        self.states.push(state);
+        self.places.push(place);
+    }
+
+    /// The most significant digits of any value (0: all binary64).
+    pub fn digits(&self) -> usize {
+        self.times
+            .iter()
+            .chain(self.states.iter().flatten())
+            .map(Number::digits)
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// True when the precision rule reads the texts exactly (some value has > 17 digits).
+    pub fn is_high_precision(&self) -> bool {
+        self.digits() > F64_TEXT_DIGITS
+    }
+
+    /// Check that times strictly increase; the message names the sample's place.
+    pub fn check_times(&self) -> Result<(), String> {
+        for k in 1..self.times.len() {
+            let (a, b) = (self.times[k - 1].to_f64(), self.times[k].to_f64());
+            // Decimal texts beyond f64 may differ only past the 17th digit: compare exactly.
+            let increasing = if b != a {
+                b > a
+            } else {
+                let hi = self.times[k].to_float(2000, true);
+                let lo = self.times[k - 1].to_float(2000, true);
+                hi > lo
+            };
+            if !increasing {
+                return Err(format!(
+                    "{}: t = {} does not come after the previous sample's t = {} (times must be strictly increasing)",
+                    self.places[k],
+                    show(&self.times[k]),
+                    show(&self.times[k - 1])
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The samples at `bits` bits by the precision rule.
+    pub fn to_samples(&self, bits: u32) -> Samples {
+        let high = self.is_high_precision();
+        Samples {
+            times: self.times.iter().map(|t| t.to_float(bits, high)).collect(),
+            states: self
+                .states
+                .iter()
+                .map(|s| {
+                    let v: Vec<Float> = s.iter().map(|x| x.to_float(bits, high)).collect();
+                    State::from_slice(&v)
+                })
+                .collect(),
+            digits: self.digits(),
+        }
+    }
+}
+
+fn show(n: &Number) -> String {
+    match n {
+        Number::F64(x) => format!("{x:?}"),
+        Number::Text(s) => s.clone(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn digits_are_counted_without_sign_point_exponent_or_leading_zeros() {
+        assert_eq!(significant_digits("-0.000123e-5"), 3);
+        assert_eq!(significant_digits("0.1"), 1);
+        assert_eq!(significant_digits("0"), 1);
+        assert_eq!(significant_digits("1.2345678901234567"), 17);
+        assert_eq!(significant_digits("0.10000000000000000000000000000001"), 32);
+    }
+
+    #[test]
+    fn texts_are_checked() {
+        for bad in [
+            "",
+            "abc",
+            "nan",
+            "NaN",
+            "inf",
+            "-Infinity",
+            "1e999",
+            "1.2.3",
+        ] {
+            assert!(check_text(bad).is_err(), "{bad:?} accepted");
+        }
+        assert!(check_text(" -1.5e-3 ").is_ok());
+        assert!(check_f64(f64::NAN).is_err());
+    }
+
+    /// Short texts are the f64 they print; a long text makes the whole file exact.
+    #[test]
+    fn the_precision_rule() {
+        let mut raw = RawTrajectory::default();
+        let zero = || std::array::from_fn(|_| Number::Text("0.1".into()));
+        raw.push(Number::Text("0".into()), zero(), "line 2".into());
+        let s = raw.to_samples(200);
+        assert_eq!(s.states[0].omega[0], Float::with_val(200, 0.1f64));
+        let mut long = zero();
+        long[0] = Number::Text("0.100000000000000000000000000000".into());
+        raw.push(Number::Text("1".into()), long, "line 3".into());
+        assert!(raw.is_high_precision());
+        let s = raw.to_samples(200);
+        let exact = Float::with_val(200, Float::parse("0.1").unwrap());
+        assert_eq!(s.states[0].omega[0], exact);
+        assert_ne!(exact, Float::with_val(200, 0.1f64));
+    }
+
+    #[test]
+    fn times_must_increase() {
+        let mut raw = RawTrajectory::default();
+        let z = || std::array::from_fn(|_| Number::F64(0.0));
+        raw.push(Number::F64(0.0), z(), "row 1".into());
+        raw.push(Number::F64(1.0), z(), "row 2".into());
+        assert!(raw.check_times().is_ok());
+        raw.push(Number::F64(1.0), z(), "row 3".into());
+        let e = raw.check_times().unwrap_err();
+        assert!(e.starts_with("row 3: t = 1.0"), "{e}");
+    }
+}

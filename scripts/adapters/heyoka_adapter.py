@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""heyoka (Taylor method, C++/LLVM) as an external integrator of rsts, protocol rsts-integrator/1.
+
+    rsts compare --exec ".venv-adapters/bin/python scripts/adapters/heyoka_adapter.py f64"
+    rsts bench --methods taylor-mp --exec ".venv-adapters/bin/python scripts/adapters/heyoka_adapter.py mpfr" \
+        --digits 90 --tolerances 1e-20,1e-40
+
+Argument: the scalar, `f64` (default), `f64-ha` (f64 with high_accuracy: compensated summation
+of the state), `real128` (quadruple precision) or `mpfr` (at the request's `digits`). Install
+heyoka with scripts/install_adapters.sh heyoka.
+
+The integrator is compiled once (not timed) and `propagate_grid` through the requested times is
+timed alone: that is the `integration_seconds` of the answer. rhs_evals counts one evaluation
+per Taylor order per step (heyoka's convention; rsts' Taylor methods count one more per step).
+"""
+
+import json
+import math
+import sys
+import time
+
+import numpy as np
+import heyoka as hy
+
+METHODS = ("f64", "f64-ha", "real128", "mpfr")
+
+
+def bits_for_digits(digits):
+    # The rule of rsts (rsts_dynamics::scalar::bits_for_digits): ceil(digits * log2(10)) + 8.
+    return math.ceil(digits * math.log2(10)) + 8
+
+
+def equations():
+    """The Euler-Poisson equations as in crates/dynamics/src/equations.rs (a, b: parameters)."""
+    w1, w2, w3, a1, a2, a3, b1, b2, b3 = hy.make_vars("w1", "w2", "w3", "a1", "a2", "a3", "b1", "b2", "b3")
+    a, b = hy.par[0], hy.par[1]
+    return [
+        (w1, 0.5 * w2 * w3 + 0.5 * b * b3),
+        (w2, -0.5 * w1 * w3 - 0.5 * a * a3),
+        (w3, a * a2 - b * b1),
+        (a1, a2 * w3 - a3 * w2),
+        (a2, a3 * w1 - a1 * w3),
+        (a3, a1 * w2 - a2 * w1),
+        (b1, b2 * w3 - b3 * w2),
+        (b2, b3 * w1 - b1 * w3),
+        (b3, b1 * w2 - b2 * w1),
+    ]
+
+
+def main():
+    method = sys.argv[1] if len(sys.argv) > 1 else "f64"
+    if method not in METHODS:
+        sys.exit(f"heyoka_adapter.py: unknown scalar {method!r} (known: {', '.join(METHODS)})")
+    req = json.load(sys.stdin)
+    if req.get("protocol") != "rsts-integrator/1":
+        sys.exit(f"heyoka_adapter.py: unsupported protocol {req.get('protocol')!r}")
+    bits = bits_for_digits(int(req["digits"]))
+    if method in ("f64", "f64-ha"):
+        dtype, num = np.float64, float
+    elif method == "real128":
+        dtype, num = hy.real128, hy.real128
+    else:
+        dtype, num = hy.real, lambda s: hy.real(s, bits)
+    init = req["initial"]
+    state = np.array([num(x) for x in init["omega"] + init["alpha"] + init["beta"]], dtype=dtype)
+    pars = np.array([num(req["a"]), num(req["b"])], dtype=dtype)
+    # Times are binary64 values: convert them exactly (not through their decimal text).
+    exact = (lambda t: hy.real(float(t), bits)) if method == "mpfr" else (lambda t: num(float(t)))
+    times = np.array([exact(t) for t in req["times"]], dtype=dtype)
+    tol = min(req["rtol"], req["atol"])
+    opts = dict(pars=pars, fp_type=dtype, tol=tol if dtype is np.float64 else num(repr(tol)))
+    if method == "mpfr":
+        opts["prec"] = bits
+    if method == "f64-ha":
+        opts["high_accuracy"] = True
+    ta = hy.taylor_adaptive(equations(), state, **opts)
+    start = time.perf_counter()
+    outcome, _, _, steps, _, states = ta.propagate_grid(times)
+    seconds = time.perf_counter() - start
+    if outcome != hy.taylor_outcome.time_limit:
+        sys.exit(f"heyoka_adapter.py: heyoka stopped with {outcome}")
+    # Numbers keep all their digits: f64 as JSON numbers, real128 and MPFR as decimal strings.
+    out = (lambda x: float(x)) if dtype is np.float64 else str
+    samples = [
+        {"t": float(t), "omega": [out(x) for x in s[0:3]], "alpha": [out(x) for x in s[3:6]], "beta": [out(x) for x in s[6:9]]}
+        for t, s in zip(req["times"], states)
+    ]
+    name = f"heyoka-{method}" + (f"-{req['digits']}d" if method == "mpfr" else "")
+    json.dump(
+        {"name": name, "samples": samples,
+         "stats": {"steps": int(steps), "rhs_evals": int(steps) * int(ta.order), "integration_seconds": seconds}},
+        sys.stdout,
+    )
+
+
+if __name__ == "__main__":
+    main()
