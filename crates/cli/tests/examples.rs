@@ -34,6 +34,8 @@ use std::time::{Duration, Instant};
 
 /// Optional tools a `# needs:` marker may name.
 const TOOLS: [&str; 5] = ["heyoka", "scipy", "node", "chromium", "slurm"];
+/// Virtual environments of optional tools, shared with the clone when the checkout has them.
+const VENVS: [&str; 2] = [".venv-adapters", ".venv-heyoka"];
 /// How long a `# takes:` command runs before it is stopped.
 const PROBE_SECONDS: u64 = 20;
 /// Longest time one document's examples may take together.
@@ -423,7 +425,7 @@ exec "{cargo}" "${{args[0]}}" --manifest-path "$repo/Cargo.toml" "${{args[@]:1}}
             let (p, r) = (e.path(), rel.join(e.file_name()));
             let kind = fs::symlink_metadata(&p).unwrap().file_type();
             if rel.as_os_str().is_empty()
-                && (r == Path::new("target") || r == Path::new(".venv-heyoka"))
+                && (r == Path::new("target") || VENVS.iter().any(|v| r == Path::new(v)))
             {
                 continue;
             }
