@@ -329,6 +329,14 @@ impl TrajectoryLog {
             .library(format!("rsts-mcap/{}", env!("CARGO_PKG_VERSION")));
         let mut w = opts.create(BufWriter::new(file))?;
 
+        // The metadata record goes first, before any schema or channel: a Metadata record
+        // closes the open chunk, and a chunk holding only schemas and channels has no message
+        // index, which @mcap/core < 2.1.6 (Foxglove Studio, older Lichtblick) rejects.
+        // Schemas and channels then share the first chunk with the first messages.
+        w.write_metadata(&mcap::records::Metadata {
+            name: topics::METADATA_RECORD_NAME.into(),
+            metadata: metadata.to_record_map(),
+        })?;
         let tf_s = w.add_schema(
             schemas::FRAME_TRANSFORM_NAME,
             "jsonschema",
@@ -397,11 +405,6 @@ impl TrajectoryLog {
                 false,
             )?,
         ];
-        w.write_metadata(&mcap::records::Metadata {
-            name: topics::METADATA_RECORD_NAME.into(),
-            metadata: metadata.to_record_map(),
-        })?;
-
         let mut log = TrajectoryLog {
             writer: Some(w),
             path,
