@@ -95,3 +95,53 @@ pub fn reader_problems(mcap: &[u8]) -> Vec<String> {
     }
     problems
 }
+
+/// The same file in the layout `rsts` wrote before it was fixed: a first chunk holding only
+/// the schemas and channels (the metadata records, or a flush, close it before the first
+/// message). For tests and `scripts/check_viewer.sh --self-test`, which show that the checks
+/// ([`reader_problems`], @mcap/core 2.1.0, Foxglove Studio) reject such a file.
+pub fn with_empty_first_chunk(mcap: &[u8]) -> Result<Vec<u8>, mcap::McapError> {
+    use std::borrow::Cow;
+    use std::collections::HashMap;
+    use std::io::Cursor;
+
+    let summary = mcap::Summary::read(mcap)?.ok_or(mcap::McapError::UnexpectedEof)?;
+    let mut w = mcap::WriteOptions::new()
+        .compression(Some(mcap::Compression::Zstd))
+        .profile("")
+        .create(Cursor::new(Vec::new()))?;
+    let mut schema_ids = HashMap::new();
+    let mut schemas: Vec<_> = summary.schemas.values().collect();
+    schemas.sort_by_key(|s| s.id);
+    for s in schemas {
+        schema_ids.insert(s.id, w.add_schema(&s.name, &s.encoding, &s.data)?);
+    }
+    let mut channel_ids = HashMap::new();
+    let mut channels: Vec<_> = summary.channels.values().collect();
+    channels.sort_by_key(|c| c.id);
+    for c in channels {
+        let schema = c.schema.as_ref().map_or(0, |s| schema_ids[&s.id]);
+        let id = w.add_channel(schema, &c.topic, &c.message_encoding, &c.metadata)?;
+        channel_ids.insert(c.id, id);
+    }
+    w.flush()?;
+    for record in mcap::read::LinearReader::new(mcap)? {
+        if let mcap::records::Record::Metadata(m) = record? {
+            w.write_metadata(&m)?;
+        }
+    }
+    for m in mcap::MessageStream::new(mcap)? {
+        let m = m?;
+        w.write_to_known_channel(
+            &mcap::records::MessageHeader {
+                channel_id: channel_ids[&m.channel.id],
+                sequence: m.sequence,
+                log_time: m.log_time,
+                publish_time: m.publish_time,
+            },
+            &Cow::from(m.data),
+        )?;
+    }
+    w.finish()?;
+    Ok(w.into_inner().into_inner())
+}

@@ -114,3 +114,37 @@ fn the_check_flags_the_old_layout_and_damaged_files() {
     // Not MCAP at all.
     assert_eq!(reader_problems(b"not an mcap file").len(), 1);
 }
+
+#[test]
+fn the_old_layout_rewrite_keeps_every_message() {
+    let (path, _) = write_log("compat-rewrite.mcap", 40);
+    let bytes = std::fs::read(&path).unwrap();
+    let old = rsts_mcap::compat::with_empty_first_chunk(&bytes).unwrap();
+    let problems = reader_problems(&old);
+    assert!(
+        problems
+            .iter()
+            .any(|p| p.contains("chunk 0") && p.contains("no message index")),
+        "{problems:?}"
+    );
+    let read = |b: &[u8]| -> Vec<(String, u64, Vec<u8>)> {
+        mcap::MessageStream::new(b)
+            .unwrap()
+            .map(|m| {
+                let m = m.unwrap();
+                (m.channel.topic.clone(), m.log_time, m.data.to_vec())
+            })
+            .collect()
+    };
+    assert_eq!(read(&old), read(&bytes));
+    let meta = |b: &[u8]| {
+        mcap::read::LinearReader::new(b)
+            .unwrap()
+            .filter_map(|r| match r.unwrap() {
+                mcap::records::Record::Metadata(m) => Some(m),
+                _ => None,
+            })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(meta(&old), meta(&bytes));
+}
