@@ -87,7 +87,7 @@ rsts=target/release/rsts
 files="$out/files"
 rm -rf "$files" && mkdir -p "$files"
 $rsts compare --t-end 20 --samples 401 --format json --mcap "$files/compare.mcap" >"$files/compare.json"
-$rsts surfaces --m 0.3 --h -0.375 --torus 0 --periods 1 --samples 1000 --no-ply \
+$rsts surfaces --m 0.3 --h -0.375 --torus 0 --periods 1 --samples 1000 --scene-grid 32 --no-ply \
   --out "$files/surfaces" >/dev/null
 cases=(
   --case compare "$files/compare.mcap" docs/foxglove/compare.json "#338cff,#ff731a"

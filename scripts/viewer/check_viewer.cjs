@@ -31,6 +31,10 @@ const COLOUR_DISTANCE = 40;
 const VIEWPORT = { width: 1600, height: 1000 };
 // Software WebGL on a loaded 2-core machine can take a while to deliver a frame.
 const SCREENSHOT_TIMEOUT = 120000;
+// Waits for the viewer's UI (the machines that run this are often loaded).
+const WAIT = 120000;
+// Longest playback (the files the check writes last 20 s of motion at most, played at 1x).
+const PLAY_LIMIT = 300000;
 // Chromium as root in a container: no sandbox; no background traffic (the network is closed);
 // WebGL through SwiftShader (no GPU).
 const CHROMIUM_ARGS = [
@@ -140,11 +144,18 @@ function installFilePicker() {
   };
 }
 
-// Closes the first-use hints ("Open settings to configure topics and layers") that cover panels.
+// Closes the first-use hints ("Open settings to configure topics and layers.") that cover panels.
 async function closeHints(page) {
-  for (const close of await page.locator('[role="tooltip"] button').all()) {
-    await close.click({ timeout: 2000 }).catch(() => {});
-  }
+  await page.evaluate(() => {
+    for (const el of document.querySelectorAll("body *")) {
+      if (el.childElementCount === 0 && /^Open settings to configure/.test(el.textContent || "")) {
+        let box = el;
+        for (let up = 0; up < 4 && box && !box.querySelector("button"); up++) box = box.parentElement;
+        box?.querySelector("button")?.click();
+      }
+    }
+  });
+  await page.waitForTimeout(300);
 }
 
 // Pixels of `png` near each colour of `colours` (parsed by parseColour).
@@ -195,9 +206,12 @@ async function runCase(browser, base, index, c, outDir) {
   let playing = false;
   const firstLine = (t) => String(t).split("\n")[0].slice(0, 300);
   page.on("pageerror", (e) => problems.push(`page error: ${firstLine(e)}`));
+  const t0 = Date.now();
+  const stamp = () => `${((Date.now() - t0) / 1000).toFixed(1).padStart(6)} s`;
+  const step = (what) => log.push(`${stamp()} [check] ${what}`);
   page.on("console", (m) => {
     const text = m.text();
-    log.push(`[${m.type()}] ${text}`);
+    log.push(`${stamp()} [${m.type()}] ${text}`);
     if (m.type() === "error") problems.push(`console error: ${firstLine(text)}`);
     // The 3-D panel logs its settings-tree errors as "[topics > /x] ...", "[transforms > ...]".
     else if (playing && m.type() === "warning" && /^\[(topics|transforms|general|layers) >/.test(text)) {
@@ -206,8 +220,9 @@ async function runCase(browser, base, index, c, outDir) {
   });
   const result = { name: c.name, file: c.file, layout: c.layout, expect_failure: c.expectFailure ? String(c.expectFailure) : null };
   try {
-    await page.goto(`${base}/index.html`, { waitUntil: "domcontentloaded", timeout: 60000 });
-    await page.getByText("Open local file", { exact: true }).waitFor({ timeout: 90000 });
+    await page.goto(`${base}/index.html`, { waitUntil: "domcontentloaded", timeout: WAIT });
+    await page.getByText("Open local file", { exact: true }).waitFor({ timeout: WAIT });
+    step("page loaded");
     // 1. Layouts > Import layout (a user imports it once; it stays for every file opened later).
     await page.getByRole("button", { name: "Dismiss" }).click().catch(() => {});
     await page.keyboard.press("Escape");
@@ -215,30 +230,43 @@ async function runCase(browser, base, index, c, outDir) {
     await page.evaluate((u) => window.__rstsPicks.push(u), `${base}/files/${index + 1}/${encodeURIComponent(path.basename(c.layout))}`);
     await page.locator('button[title="Import layout"]').click();
     const layoutName = path.basename(c.layout, ".json");
-    await page.getByText(layoutName, { exact: true }).first().waitFor({ timeout: 20000 });
+    await page.getByText(layoutName, { exact: true }).first().waitFor({ timeout: WAIT });
+    step("layout imported");
     // 2. Data source > Open local file.
     await page.locator('button[title="Data source"]').click();
     await page.locator('button[title="New connection"]').click().catch(() => {});
     const open = page.getByText("Open local file", { exact: true });
-    await open.waitFor({ timeout: 20000 });
+    await open.waitFor({ timeout: WAIT });
     await page.evaluate((u) => window.__rstsPicks.push(u), `${base}/files/${index}/${encodeURIComponent(path.basename(c.file))}`);
     await open.click();
-    await page.getByText(path.basename(c.file)).first().waitFor({ timeout: 30000 });
+    await page.getByText(path.basename(c.file)).first().waitFor({ timeout: WAIT });
+    step("file opened");
     await page.locator('button[title="Data source"]').click(); // close the sidebar
     await page.waitForTimeout(3000);
     await closeHints(page);
     // 3. Play to the end.
-    const play = page.locator('button[title^="Play"]');
-    await play.first().waitFor({ timeout: 30000 });
-    playing = true;
-    await play.first().click();
-    const end = Date.now() + 180000;
-    while (Date.now() < end) {
-      await page.waitForTimeout(1000);
-      if ((await page.locator('button[title^="Play"]').count()) > 0 && (await page.locator('button[title^="Pause"]').count()) === 0) break;
+    // (Unless the viewer already reported a problem and will not play.)
+    const play = page.locator('button[title^="Play"]').first();
+    const ready = Date.now() + WAIT;
+    while (Date.now() < ready && problems.length === 0 && !(await play.isEnabled().catch(() => false))) {
+      await page.waitForTimeout(500);
+    }
+    if (await play.isEnabled().catch(() => false)) {
+      playing = true;
+      step("play");
+      await play.click({ timeout: WAIT });
+      const end = Date.now() + PLAY_LIMIT;
+      while (Date.now() < end) {
+        await page.waitForTimeout(1000);
+        if ((await page.locator('button[title^="Pause"]').count()) === 0) break;
+      }
+      if (Date.now() >= end) problems.push(`playback did not reach the end within ${PLAY_LIMIT / 1000} s`);
+    } else if (problems.length === 0) {
+      problems.push("the Play button never became enabled (no data loaded?)");
     }
     await page.waitForTimeout(1500);
     await closeHints(page);
+    step("end of playback; screenshot");
     result.screenshot = path.join(outDir, `${c.name}.png`);
     await page.screenshot({ path: result.screenshot, timeout: SCREENSHOT_TIMEOUT });
     // 4. Problems the viewer shows.
@@ -264,7 +292,7 @@ async function runCase(browser, base, index, c, outDir) {
       const download = panel.locator('button[title="Download plot data as CSV"]');
       const canvas = panel.locator("canvas").first();
       if ((await download.count()) > 0) {
-        const wait = page.waitForEvent("download", { timeout: 20000 });
+        const wait = page.waitForEvent("download", { timeout: WAIT });
         await download.click();
         const file = path.join(outDir, `${c.name}_plot${i}.csv`);
         await (await wait).saveAs(file);

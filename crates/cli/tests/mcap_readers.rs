@@ -91,8 +91,8 @@ fn kinds() -> &'static [Kind] {
                     "/hodograph/fixed=foxglove.SceneUpdate".into(),
                     "--expect-count".into(),
                     "/tf=400".into(),
-                    "/surface/p=1".into(),
-                    "/surface/pi=1".into(),
+                    "/surface/p=2".into(),
+                    "/surface/pi=2".into(),
                 ],
             },
         ]

@@ -30,7 +30,8 @@ Examples:
   # the Taylor integrator at 60 digits (the closed form is evaluated 64 bits beyond it)
   rsts compare --method taylor-mp --digits 60 --rtol 1e-55 --atol 1e-55 --t-end 20 --samples 21
 
-Open the MCAP file in Foxglove or Lichtblick (Open local file); see docs/mcap.md for the channels.
+Open the MCAP file in Foxglove or Lichtblick (Open local file) with the layout
+docs/foxglove/compare.json (Layouts > Import layout); see docs/mcap.md for the channels.
 Ctrl-C stops the run after the current piece and still leaves a complete, readable MCAP file.";
 
 /// Options of `rsts compare`.
