@@ -14,7 +14,8 @@
 #   --no-self-test   skip the two cases that must fail (a file with an empty first chunk, as rsts
 #                    wrote before; a surfaces scene opened with the compare layout), which show
 #                    that the check catches a viewer problem and empty panels
-#   --docs           copy the screenshots of the shipped layouts to docs/img/foxglove/
+#   --docs           copy the screenshots of the shipped layouts (and of the self-test's file with
+#                    an empty first chunk) to docs/img/foxglove/
 #
 # Installs what it needs, once (a few minutes; later runs reuse it): Debian's chromium (apt-get,
 # as root or through sudo), playwright-core (npm, scripts/node_deps.sh viewer; it drives
@@ -116,6 +117,9 @@ fi
 if [ "$docs" -eq 1 ] && [ "$code" -eq 0 ]; then
   mkdir -p docs/img/foxglove
   cp "$out/compare.png" "$out/surfaces.png" docs/img/foxglove/
+  if [ -f "$out/self-test-empty-first-chunk_problems.png" ]; then
+    cp "$out/self-test-empty-first-chunk_problems.png" docs/img/foxglove/empty-first-chunk.png
+  fi
   say "copied the screenshots to docs/img/foxglove/"
 fi
 say "screenshots in $out: $(cd "$out" && ls -- *.png | tr '\n' ' ')"

@@ -35,44 +35,27 @@ fn kinds() -> &'static [Kind] {
     KINDS.get_or_init(|| {
         let compare = tmp("compare.mcap");
         let samples = COMPARE_SAMPLES.to_string();
-        let out = rsts_command(
+        let run = |command: &str, args: String| {
+            let args: Vec<&str> = args.split_whitespace().collect();
+            let out = rsts_command(command, &args);
+            assert!(out.status.success(), "{command}: {}", stderr(&out));
+        };
+        run(
             "compare",
-            &[
-                "--t-end",
-                "5",
-                "--samples",
-                &samples,
-                "--format",
-                "json",
-                "--mcap",
-                compare.to_str().unwrap(),
-            ],
+            format!(
+                "--t-end 5 --samples {samples} --format json --mcap {}",
+                compare.display()
+            ),
         );
-        assert!(out.status.success(), "compare: {}", stderr(&out));
         let dir = tmp("surfaces");
-        let out = rsts_command(
+        run(
             "surfaces",
-            &[
-                "--m",
-                "0.3",
-                "--h",
-                "-0.375",
-                "--torus",
-                "0",
-                "--scene-grid",
-                "16",
-                "--grid",
-                "16",
-                "--size",
-                "64",
-                "--samples",
-                "400",
-                "--no-ply",
-                "--out",
-                dir.to_str().unwrap(),
-            ],
+            format!(
+                "--m 0.3 --h -0.375 --torus 0 --scene-grid 16 --grid 16 --size 64 --samples 400 \
+                 --no-ply --out {}",
+                dir.display()
+            ),
         );
-        assert!(out.status.success(), "surfaces: {}", stderr(&out));
         vec![
             Kind {
                 name: "compare",

@@ -13,8 +13,8 @@ use std::collections::BTreeMap;
 /// * the file has a summary section with statistics, and the statistics' chunk and message
 ///   counts equal what the chunk indexes and a linear read find;
 /// * every chunk index has a non-empty message index (`message_index_length > 0` and at
-///   least one channel in `message_index_offsets`) — @mcap/core before 2.1.7 (Foxglove
-///   Studio 1.x, older Lichtblick) stops with "Chunks without message indexes are not
+///   least one channel in `message_index_offsets`) — @mcap/core 2.1.0 (Foxglove Studio
+///   1.x) stops with "Chunks without message indexes are not
 ///   currently supported" otherwise;
 /// * every chunk holds at least one message, and its message index lists each of them.
 pub fn reader_problems(mcap: &[u8]) -> Vec<String> {
@@ -39,8 +39,8 @@ pub fn reader_problems(mcap: &[u8]) -> Vec<String> {
         let at = format!("chunk {i} (offset {})", index.chunk_start_offset);
         if index.message_index_length == 0 || index.message_index_offsets.is_empty() {
             problems.push(format!(
-                "{at} has no message index (message_index_length {}): @mcap/core before \
-                 2.1.7 (Foxglove Studio) rejects the file",
+                "{at} has no message index (message_index_length {}): @mcap/core 2.1.0 \
+                 (Foxglove Studio 1.x) rejects the file",
                 index.message_index_length
             ));
         }

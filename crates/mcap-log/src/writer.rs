@@ -333,7 +333,7 @@ impl TrajectoryLog {
 
         // The metadata record goes first, before any schema or channel: a Metadata record
         // closes the open chunk, and a chunk holding only schemas and channels has no message
-        // index, which @mcap/core < 2.1.6 (Foxglove Studio, older Lichtblick) rejects.
+        // index, which @mcap/core 2.1.0 (Foxglove Studio 1.x) rejects; today's 2.2.2 reads it.
         // Schemas and channels then share the first chunk with the first messages.
         w.write_metadata(&mcap::records::Metadata {
             name: topics::METADATA_RECORD_NAME.into(),
