@@ -37,7 +37,8 @@ Examples:
   cargo build --release -p example-adapter-rk4
   rsts compare --exec target/release/example-adapter-rk4 --rtol 1e-10 --atol 1e-10 --t-end 20 --samples 201
 
-Open the MCAP file in Foxglove or Lichtblick (Open local file); see docs/mcap.md for the channels.
+Open the MCAP file in Foxglove or Lichtblick (Open local file) with the layout
+docs/foxglove/compare.json (Layouts > Import layout); see docs/mcap.md for the channels.
 Ctrl-C stops the run after the current piece and still leaves a complete, readable MCAP file.";
 
 /// Options of `rsts compare`.

@@ -28,7 +28,10 @@ Examples:
   rsts surfaces --a 1 --b 0.5 --m 0.3 --h -0.375 --torus 0 --out out/I+ --no-mcap --no-ply
 
   # finer mesh, other view, longer hodograph
-  rsts surfaces --m -2.9877 --h 3.2858 --grid 128 --azimuth 60 --elevation 15 --periods 10 --out out/VI";
+  rsts surfaces --m -2.9877 --h 3.2858 --grid 128 --azimuth 60 --elevation 15 --periods 10 --out out/VI
+
+Open a scene torusK_scene.mcap in Foxglove or Lichtblick (Open local file) with the layout
+docs/foxglove/surfaces.json (Layouts > Import layout); see docs/mcap.md.";
 
 /// Options of `rsts surfaces`.
 #[derive(Debug, Clone, ClapArgs)]
