@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The real-viewer check: every kind of MCAP file rsts writes, opened with the shipped Foxglove
+# The real-viewer check: every kind of MCAP file rsts writes (compare, check, surfaces scene), opened with the shipped Foxglove
 # layouts (docs/foxglove/*.json) in Foxglove Studio's web build (1.48.0, whose MCAP reader is the
 # oldest and strictest in use) in headless Chromium, the way a user does it: Layouts > Import
 # layout, then Open local file, then Play to the end. Fails when the viewer reports a problem
@@ -88,10 +88,13 @@ rsts=target/release/rsts
 files="$out/files"
 rm -rf "$files" && mkdir -p "$files"
 $rsts compare --t-end 20 --samples 401 --format json --mcap "$files/compare.mcap" >"$files/compare.json"
+# rsts check logs like compare (here: the compare log's integrated channel against the closed form)
+$rsts check "$files/compare.mcap" --format json --mcap "$files/check.mcap" >"$files/check.json"
 $rsts surfaces --m 0.3 --h -0.375 --torus 0 --periods 1 --samples 1000 --scene-grid 32 --no-ply \
   --out "$files/surfaces" >/dev/null
 cases=(
   --case compare "$files/compare.mcap" docs/foxglove/compare.json "#338cff,#ff731a"
+  --case check "$files/check.mcap" docs/foxglove/compare.json "#338cff,#ff731a"
   --case surfaces "$files/surfaces/torus0_scene.mcap" docs/foxglove/surfaces.json
   "#8c001a,#00268c,#6585b5/60/3000,#b47848/50/200"
 )

@@ -1,4 +1,4 @@
-//! Every kind of MCAP file `rsts` writes is read by every reader a user may have:
+//! Every kind of MCAP file `rsts` writes (compare, check, surfaces scene) is read by every reader a user may have:
 //! * the `mcap` crate: `rsts_mcap::compat::reader_problems` (no chunk without messages, every
 //!   chunk index with a message index, counts that agree with a linear read);
 //! * the official Python reader (`scripts/check_mcap.py`, `mcap` from PyPI);
@@ -47,6 +47,16 @@ fn kinds() -> &'static [Kind] {
                 compare.display()
             ),
         );
+        // `rsts check` logs like compare: here it checks the compare log's integrated channel.
+        let check = tmp("check.mcap");
+        run(
+            "check",
+            format!(
+                "{} --format json --mcap {}",
+                compare.display(),
+                check.display()
+            ),
+        );
         let dir = tmp("surfaces");
         run(
             "surfaces",
@@ -60,6 +70,11 @@ fn kinds() -> &'static [Kind] {
             Kind {
                 name: "compare",
                 path: compare,
+                python_args: vec!["--rsts-layout".into(), "--samples".into(), samples.clone()],
+            },
+            Kind {
+                name: "check",
+                path: check,
                 python_args: vec!["--rsts-layout".into(), "--samples".into(), samples.clone()],
             },
             Kind {
