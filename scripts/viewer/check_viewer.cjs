@@ -33,6 +33,8 @@ const VIEWPORT = { width: 1600, height: 1000 };
 const SCREENSHOT_TIMEOUT = 120000;
 // Waits for the viewer's UI (the machines that run this are often loaded).
 const WAIT = 120000;
+// Quiet console time (ms) that counts as settled.
+const QUIET = 4000;
 // Longest playback (the files the check writes last 20 s of motion at most, played at 1x).
 const PLAY_LIMIT = 300000;
 // Chromium as root in a container: no sandbox; no background traffic (the network is closed);
@@ -209,7 +211,17 @@ async function runCase(browser, base, index, c, outDir) {
   const t0 = Date.now();
   const stamp = () => `${((Date.now() - t0) / 1000).toFixed(1).padStart(6)} s`;
   const step = (what) => log.push(`${stamp()} [check] ${what}`);
+  // The viewer remounts its panels after a layout import and after a file opens; a 3-D panel
+  // still re-creating its renderer when playback starts may show none of the scene (seen once on a
+  // loaded machine: a check file played with an empty 3-D panel, fine when rerun). So each step
+  // waits until the console has been quiet for QUIET ms, as a person would before going on.
+  let lastConsole = Date.now();
+  const settle = async () => {
+    const limit = Date.now() + WAIT;
+    while (Date.now() < limit && Date.now() - lastConsole < QUIET) await page.waitForTimeout(250);
+  };
   page.on("console", (m) => {
+    lastConsole = Date.now();
     const text = m.text();
     log.push(`${stamp()} [${m.type()}] ${text}`);
     if (m.type() === "error") problems.push(`console error: ${firstLine(text)}`);
@@ -231,6 +243,7 @@ async function runCase(browser, base, index, c, outDir) {
     await page.locator('button[title="Import layout"]').click();
     const layoutName = path.basename(c.layout, ".json");
     await page.getByText(layoutName, { exact: true }).first().waitFor({ timeout: WAIT });
+    await settle();
     step("layout imported");
     // 2. Data source > Open local file.
     await page.locator('button[title="Data source"]').click();
@@ -243,6 +256,7 @@ async function runCase(browser, base, index, c, outDir) {
     step("file opened");
     await page.locator('button[title="Data source"]').click(); // close the sidebar
     await page.waitForTimeout(3000);
+    await settle();
     await closeHints(page);
     // 3. Play to the end.
     // (Unless the viewer already reported a problem and will not play.)
