@@ -101,7 +101,6 @@ pub fn reader_problems(mcap: &[u8]) -> Vec<String> {
 /// message). For tests and `scripts/check_viewer.sh --self-test`, which show that the checks
 /// ([`reader_problems`], @mcap/core 2.1.0, Foxglove Studio) reject such a file.
 pub fn with_empty_first_chunk(mcap: &[u8]) -> Result<Vec<u8>, mcap::McapError> {
-    use std::borrow::Cow;
     use std::collections::HashMap;
     use std::io::Cursor;
 
@@ -139,7 +138,7 @@ pub fn with_empty_first_chunk(mcap: &[u8]) -> Result<Vec<u8>, mcap::McapError> {
                 log_time: m.log_time,
                 publish_time: m.publish_time,
             },
-            &Cow::from(m.data),
+            &m.data,
         )?;
     }
     w.finish()?;

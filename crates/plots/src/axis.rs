@@ -97,10 +97,12 @@ fn log_ticks(lo: f64, hi: f64, length: f64, label_space: f64) -> Vec<Tick> {
             }
         }
         let count = t.iter().filter(|x| x.label.is_some()).count();
-        if count >= 2 && min_gap(&t, px_per_decade) >= label_space && hi - lo <= 2.5 {
-            if mantissas.len() == 3 || hi - lo < 1.0 {
-                return t;
-            }
+        if count >= 2
+            && min_gap(&t, px_per_decade) >= label_space
+            && hi - lo <= 2.5
+            && (mantissas.len() == 3 || hi - lo < 1.0)
+        {
+            return t;
         }
     }
     // Decades: every one ticked; labels every `step` decades so that they do not collide.
