@@ -171,6 +171,27 @@ pub struct FieldArgs {
     pub b: f64,
 }
 
+/// The field strengths as exact decimals (`explicit`, `identify`: read at the requested digits).
+#[derive(Debug, Clone, Args)]
+pub struct ExactFieldArgs {
+    /// Strength a of the first field; a > b > 0 (read as an exact decimal at the requested digits)
+    #[arg(
+        long,
+        value_name = "A",
+        default_value = "1",
+        allow_hyphen_values = true
+    )]
+    pub a: String,
+    /// Strength b of the second field; 0 < b < a
+    #[arg(
+        long,
+        value_name = "B",
+        default_value = "0.5",
+        allow_hyphen_values = true
+    )]
+    pub b: String,
+}
+
 /// The point (m, h) of the invariant manifold N, the torus and the phases of a motion (used by
 /// `compare` and `bench`; the time grid has its own options there).
 #[derive(Debug, Clone, Args)]

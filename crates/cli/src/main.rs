@@ -17,13 +17,14 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use commands::{
-    bench, check, compare, diagram, explicit, inspect, integrate, reference, surfaces, table1,
-    table2, validate,
+    bench, check, compare, diagram, explicit, identify, inspect, integrate, reference, surfaces,
+    table1, table2, validate,
 };
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
 const EXIT_ERROR: u8 = 2;
-/// Exit code of `rsts validate` when a run missed its thresholds or regressed.
+/// Exit code of `rsts validate` when a run missed its thresholds or regressed, and of
+/// `rsts identify` for a state not on N.
 const EXIT_FAILED: u8 = 1;
 /// Exit code of `rsts inspect` when only part of a damaged file could be read.
 const EXIT_RECOVERED: u8 = 3;
@@ -57,6 +58,9 @@ enum Command {
     /// Evaluate the closed-form motion on the invariant manifold N (f64 or any number of digits).
     #[command(after_help = explicit::EXAMPLES)]
     Explicit(explicit::Args),
+    /// Which motion of N a state is on: m, h, camera, torus, phases, distance from N.
+    #[command(after_help = identify::EXAMPLES)]
+    Identify(identify::Args),
     /// Draw the (m, h) plane (admissible region, Σ, cameras) or describe one point of it.
     #[command(after_help = diagram::EXAMPLES)]
     Diagram(diagram::Args),
@@ -94,6 +98,7 @@ impl Command {
         match self {
             Command::Integrate(args) => integrate::run(args, out),
             Command::Explicit(args) => explicit::run(args, out),
+            Command::Identify(args) => identify::run(args, out),
             Command::Diagram(args) => diagram::run(args, out),
             Command::Compare(args) => compare::run(args, out),
             Command::Check(args) => check::run(args, out),
@@ -139,7 +144,9 @@ fn main() -> ExitCode {
                 ExitCode::from(EXIT_RECOVERED)
             } else if e.downcast_ref::<compare::Interrupted>().is_some() {
                 ExitCode::from(EXIT_INTERRUPTED)
-            } else if e.downcast_ref::<validate::Failed>().is_some() {
+            } else if e.downcast_ref::<validate::Failed>().is_some()
+                || e.downcast_ref::<identify::NotOnN>().is_some()
+            {
                 ExitCode::from(EXIT_FAILED)
             } else {
                 ExitCode::from(EXIT_ERROR)

@@ -96,6 +96,30 @@ fn same_errors(check: &Value, compare: &Value) {
     }
     assert_eq!(check["samples_compared"], compare["samples_compared"]);
     assert_eq!(check["camera"], compare["camera"]);
+    // The same geometry of the error (docs/stability.md).
+    assert_eq!(check["normal"]["type"], compare["normal"]["type"]);
+    assert_eq!(
+        check["error_split"]["dominant"],
+        compare["error_split"]["dominant"]
+    );
+    for (what, x, y) in [
+        (
+            "distance_from_N",
+            &check["normal"]["distance_from_N"]["max"],
+            &compare["normal"]["distance_from_N"]["max"],
+        ),
+        (
+            "psi1",
+            &check["phase_error"]["psi1"]["max"],
+            &compare["phase_error"]["psi1"]["max"],
+        ),
+    ] {
+        let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+        assert!(
+            (x - y).abs() <= 1e-6 * x.abs().max(y.abs()) + 1e-15,
+            "{what}: {x:e} vs {y:e}"
+        );
+    }
 }
 
 const V: [&str; 8] = [

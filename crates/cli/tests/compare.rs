@@ -55,6 +55,65 @@ fn json_report_has_the_documented_fields_and_separates_tight_from_loose() {
         loose["max_state_error"].as_f64().unwrap(),
     );
     assert!(t < 1e-8 && l > 100.0 * t, "tight {t:e}, loose {l:e}");
+    // The geometry of the error (docs/stability.md).
+    assert_eq!(tight["normal"]["type"], "elliptic");
+    for key in ["max", "final"] {
+        assert!(tight["normal"]["distance_from_N"][key].is_f64(), "{tight}");
+        assert!(tight["phase_error"]["psi1"][key].is_f64(), "{tight}");
+        assert!(tight["phase_error"]["psi2"][key].is_f64(), "{tight}");
+    }
+    assert!(tight["normal"]["growth"]["kind"].is_string(), "{tight}");
+    assert!(tight["normal"]["growth"]["rate"].is_f64(), "{tight}");
+}
+
+/// The showcase comparison (camera V, error ~4): the table says the error is the departure from
+/// N, growing like e^{λt} with λ ≈ 0.24 (docs/stability.md); in camera I+ it is the drift along
+/// the torus.
+#[test]
+fn the_report_says_what_dominates_the_error() {
+    let run = |extra: &[&str], format: &str| {
+        let mut args = vec![
+            "compare", "--method", "dopri5", "--rtol", "1e-8", "--atol", "1e-8",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--format", format]);
+        let out = rsts(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let v = ["--m", "-0.7092", "--h", "1.5643", "--torus", "2"];
+    let json: Value = serde_json::from_str(&run(&v, "json")).unwrap();
+    let normal = &json["normal"];
+    assert_eq!(normal["type"], "hyperbolic");
+    assert_eq!(normal["growth"]["kind"], "exponential", "{normal}");
+    let rate = normal["growth"]["rate"].as_f64().unwrap();
+    assert!(rate > 0.18 && rate < 0.3, "{normal}");
+    assert!(
+        normal["distance_from_N"]["max"].as_f64().unwrap() > 1e-3,
+        "{normal}"
+    );
+    assert_eq!(json["error_split"]["dominant"], "departure from N");
+    let table = run(&v, "table");
+    let line = table
+        .lines()
+        .find(|l| l.starts_with("the error is:"))
+        .unwrap();
+    assert!(
+        line.contains("departure from N") && line.contains("normally hyperbolic"),
+        "{table}"
+    );
+    assert!(table.contains("drift of on-N relations:"), "{table}");
+    let table = run(&["--m", "0.3", "--h", "-0.375"], "table");
+    let line = table
+        .lines()
+        .find(|l| l.starts_with("the error is:"))
+        .unwrap();
+    assert!(line.contains("drift along the torus"), "{table}");
+    assert!(table.contains("N normally elliptic here"), "{table}");
 }
 
 #[test]
@@ -78,6 +137,15 @@ fn mcap_log_reads_back_with_inspect() {
     assert!(csv.status.success());
     let csv = String::from_utf8(csv.stdout).unwrap();
     assert_eq!(csv.lines().count(), 52, "header + 51 samples");
+    let header = csv.lines().next().unwrap();
+    for field in [
+        "distance_from_n",
+        "phase_error_psi1",
+        "phase_error_psi2",
+        "x_phi",
+    ] {
+        assert!(header.contains(field), "{header}");
+    }
     assert!(csv.lines().next().unwrap().contains("state_error"));
     let bad = rsts(&["inspect", p, "--channel", "/nope"]);
     assert_eq!(bad.status.code(), Some(2));

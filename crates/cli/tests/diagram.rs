@@ -32,11 +32,14 @@ fn a_point_is_described_in_json_and_table() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["camera"], "V");
     assert_eq!(v["tori"], 4);
+    assert_eq!(v["normal"]["type"], "hyperbolic");
+    assert!(v["normal"]["lambda2"].as_f64().unwrap() > 0.0);
     let table = String::from_utf8(rsts(&["--m", "0.3", "--h", "-0.375"]).stdout).unwrap();
     assert!(
         table.contains("camera I+") && table.contains("[a, θ2]"),
         "{table}"
     );
+    assert!(table.contains("N is normally elliptic"), "{table}");
 }
 
 #[test]

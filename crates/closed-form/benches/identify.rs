@@ -1,11 +1,12 @@
 //! Time to identify one state (state → m, h, camera, torus, ψ₁, ψ₂, distance from N) in f64 and
 //! at 30 and 50 digits, in camera I+ (one torus) and V (four tori, torus 3), and the parts: the
-//! distance from N alone and one closed-form motion built (the identification builds a few).
+//! distance from N alone, the projection on N near a known motion (what the harness does per
+//! sample) and one closed-form motion built (the identification builds a few).
 //!
 //!     cargo bench -p rsts-closed-form --bench identify
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use rsts_closed_form::manifold::{distance, identify};
+use rsts_closed_form::manifold::{distance, identify, Projector};
 use rsts_closed_form::scalar::Scalar;
 use rsts_closed_form::{ExplicitMotion, TorusChoice};
 use rsts_dynamics::scalar::bits_for_digits;
@@ -39,6 +40,12 @@ fn bench_in<T: Scalar>(c: &mut Criterion, label: &str, bits: u32) {
         });
         group.bench_function(format!("{camera}/distance"), |bench| {
             bench.iter(|| distance(black_box(&fields), black_box(&state)))
+        });
+        let projector = Projector::new(&motion).unwrap();
+        let target = state.to_array();
+        let guess = [x(0.71), x(2.09)];
+        group.bench_function(format!("{camera}/project"), |bench| {
+            bench.iter(|| projector.project(black_box(&target), &guess).unwrap())
         });
         group.bench_function(format!("{camera}/motion"), |bench| {
             bench.iter(|| {

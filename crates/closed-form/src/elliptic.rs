@@ -21,6 +21,8 @@ pub struct EllipticModulus<T> {
     a: Vec<T>,
     b: Vec<T>,
     c: Vec<T>,
+    /// 1/a₀ … 1/a_N (the recursion of [`Self::sn_cn_dn`] multiplies by them).
+    inv_a: Vec<T>,
 }
 
 impl<T: Real> EllipticModulus<T> {
@@ -45,6 +47,7 @@ impl<T: Real> EllipticModulus<T> {
         }
         let pi = T::pi(k2.prec());
         let big_k = pi / (a.last().unwrap().clone() * k2.lit(2.0));
+        let inv_a = a.iter().map(|x| one.clone() / x).collect();
         Self {
             k2,
             kc2,
@@ -52,7 +55,29 @@ impl<T: Real> EllipticModulus<T> {
             a,
             b: bs,
             c,
+            inv_a,
         }
+        .evaluation_levels()
+    }
+
+    /// Keep only the AGM levels sn, cn, dn need at this precision: K above comes from the
+    /// AGM run until c_N ≤ ε·a_N, but the recursion of [`Self::sn_cn_dn`] is accurate to ε
+    /// once c_N ≤ √ε·a_N (a_N then differs from the mean by c_N²/4a_N ≤ ε·a_N/4; the stopping
+    /// rule of Numerical Recipes' `sncndn`, "the accuracy is the square of CA"). For a motion
+    /// built 64 bits beyond its working precision and rounded, this drops the levels only the
+    /// guard bits needed (two of six in f64 at k² ≈ 0.4).
+    fn evaluation_levels(mut self) -> Self {
+        let root_eps = self.k2.epsilon().sqrt();
+        if let Some(n) =
+            (0..self.a.len()).find(|&n| self.c[n].abs() <= root_eps.clone() * &self.a[n])
+        {
+            let keep = n + 1;
+            self.a.truncate(keep);
+            self.b.truncate(keep);
+            self.c.truncate(keep);
+            self.inv_a.truncate(keep);
+        }
+        self
     }
 
     /// The same modulus in another scalar (each stored number mapped).
@@ -64,7 +89,9 @@ impl<T: Real> EllipticModulus<T> {
             a: self.a.iter().map(f).collect(),
             b: self.b.iter().map(f).collect(),
             c: self.c.iter().map(f).collect(),
+            inv_a: self.inv_a.iter().map(f).collect(),
         }
+        .evaluation_levels()
     }
 
     /// (sn u, cn u, dn u).
@@ -75,25 +102,35 @@ impl<T: Real> EllipticModulus<T> {
             return (u.sin(), u.cos(), u.one_like());
         }
         // Bulirsch: with the AGM mean c = a_N, sin(cu) and cos(cu), then the recursion below.
-        let c_agm = self.a[n].clone();
-        let uc = u.clone() * &c_agm;
-        let (s, co) = (uc.sin(), uc.cos());
+        let c_agm = &self.a[n];
+        let uc = u.clone() * c_agm;
+        let (s, co) = uc.sin_cos();
         if s.abs() < u.lit(1e-30) {
             return self.landen(u);
         }
         let one = u.one_like();
         let mut a = co / &s;
-        let mut c = c_agm * &a;
+        let mut c = a.clone() * c_agm;
         let mut dn = one.clone();
+        // In place, with two scratch numbers: no allocation in the loop for MPFR.
+        let mut den = one.clone();
         for i in (1..=n).rev() {
             // em[i] = a_{i-1}, en[i] = b_{i-1} of the AGM of (1, k′).
-            let b = self.a[i - 1].clone();
             a *= &c;
             c *= &dn;
-            dn = (self.b[i - 1].clone() + &a) / (b.clone() + &a);
-            a = c.clone() / &b;
+            // dn = (b_{i−1} + a)/(a_{i−1} + a)
+            dn.clone_from(&a);
+            dn += &self.b[i - 1];
+            den.clone_from(&a);
+            den += &self.a[i - 1];
+            dn /= &den;
+            // a = c/a_{i−1}
+            a.clone_from(&c);
+            a *= &self.inv_a[i - 1];
         }
-        let mag = one / (c.square() + u.one_like()).sqrt();
+        let mut mag = c.square();
+        mag += &one;
+        let mag = one / mag.sqrt();
         let sn = if s >= s.zero_like() { mag } else { -mag };
         let cn = c * &sn;
         (sn, cn, dn)

@@ -81,112 +81,121 @@ impl<S: Real> ExplicitState<S> {
 }
 
 /// Evaluate all formulas at a point.
+///
+/// Every formula divides by one of d, 2d, ad, bd, abd, 2ad², 2bd², 2abd² (d = 1 − xs₂ > 0,
+/// a > b > 0): one division q = 1/(abd) gives all of them as products, so the ~33 quotients
+/// of the formulas are multiplications (a few ulp of extra rounding; the cost of a state in
+/// MPFR and f64 is dominated by divisions otherwise).
 pub fn explicit_state<S: Real>(
     c: &FormulaConstants<S>,
     p: SeparatedCoordinates<S>,
 ) -> ExplicitState<S> {
     let one = p.x.one_like();
     let two = one.lit(2.0);
-    let four = one.lit(4.0);
+    let half = one.lit(0.5);
+    // 2v exactly, by an addition (cheaper than a multiplication in MPFR).
+    let twice = |v: &S| v.clone() + v;
     let (a, b, m, ell, r) = (&c.a, &c.b, &c.m, &c.ell, &c.r);
     let (x, s2, f1, g1, f2, g2) = (&p.x, &p.s2, &p.f1, &p.g1, &p.f2, &p.g2);
     let a2 = a.square();
     let b2 = b.square();
-    let d = one.clone() - x.clone() * s2;
-    let d2 = d.square();
+    let ab = a.clone() * b;
+    let xs2 = x.clone() * s2;
+    let d = one.clone() - &xs2;
+    // Reciprocals of the denominators from q = 1/(abd).
+    let inv_abd = one.clone() / (ab.clone() * &d);
+    let inv_ad = inv_abd.clone() * b;
+    let inv_bd = inv_abd.clone() * a;
+    let inv_d = inv_abd.clone() * &ab;
+    let inv_two_d = inv_d.clone() * &half;
+    let inv_two_a_d2 = inv_ad.clone() * &inv_two_d;
+    let inv_two_b_d2 = inv_bd.clone() * &inv_two_d;
+    let inv_two_ab_d2 = inv_abd.clone() * &inv_two_d;
     // Ψ* = 4ms₂ − 2ℓ(1 + xs₂) + 2(p²m + h)x
-    let psi = four.clone() * m * s2 - two.clone() * ell * (one.clone() + x.clone() * s2)
-        + two.clone() * &c.pmh * x;
+    let two_m = twice(m);
+    let psi = twice(&two_m) * s2 - twice(ell) * (one.clone() + &xs2) + twice(&c.pmh) * x;
     let g1g2 = g1.clone() * g2;
     let f1f2 = f1.clone() * f2;
+    let f1g2 = f1.clone() * g2;
+    let f2g1 = f2.clone() * g1;
+    let gf = g1g2.clone() * &f1f2;
+    let pg = psi.clone() * &g1g2;
     let sa = s2.clone() - a2.clone() * x; // (s₁s₂ − a²)·x
     let sb = s2.clone() - b2.clone() * x; // (s₁s₂ − b²)·x
-    let two_a_d2 = two.clone() * a * &d2;
-    let two_b_d2 = two.clone() * b * &d2;
-    let two_ab_d2 = two.clone() * a * b * &d2;
+    let rg1 = r.clone() * g1;
+    let a2s2x = a2.clone() * s2 * x;
+    // Entries that occur twice below (α₃ = Q″₁₃, β₃ = Q″₂₃, γ₃ = Q″₃₃, −Ψ*/2d, ω₃ and ω′₃).
+    let alpha3 = rg1.clone() * &inv_ad;
+    let beta3 = r.clone() * x * g2 * &inv_bd;
+    let gamma3 = (b2.clone() - &a2s2x) * &inv_abd;
+    let psi_2d = -(psi.clone()) * &inv_two_d;
+    let f1g2_f2g1 = f1g2.clone() + &f2g1;
 
     // eq. (1.3)
     let alpha = [
-        (sa.clone() * &psi + g1g2.clone() * &f1f2) / &two_a_d2,
-        (sa.clone() * &f1f2 - psi.clone() * &g1g2) / &two_a_d2,
-        r.clone() * g1 / (a.clone() * &d),
+        (sa.clone() * &psi + &gf) * &inv_two_a_d2,
+        (sa.clone() * &f1f2 - &pg) * &inv_two_a_d2,
+        alpha3.clone(),
     ];
     let beta = [
-        (psi.clone() * &g1g2 - sb.clone() * &f1f2) / &two_b_d2,
-        (sb.clone() * &psi + g1g2.clone() * &f1f2) / &two_b_d2,
-        r.clone() * x * g2 / (b.clone() * &d),
+        (pg.clone() - sb.clone() * &f1f2) * &inv_two_b_d2,
+        (sb.clone() * &psi + &gf) * &inv_two_b_d2,
+        beta3.clone(),
     ];
     // eq. (1.4)
     let omega = [
-        r.clone() * (ell.clone() * x - two.clone() * m) * f2 / (two.clone() * &d),
-        r.clone() * (ell.clone() - two.clone() * m * s2) * f1 / (two.clone() * &d),
-        -(g2.clone() * f1 + g1.clone() * f2) / &d,
+        r.clone() * (ell.clone() * x - &two_m) * f2 * &inv_two_d,
+        r.clone() * (ell.clone() - two_m.clone() * s2) * f1 * &inv_two_d,
+        -(f1g2_f2g1.clone()) * &inv_d,
     ];
     // eq. (2.5)
     let gamma = [
-        -(r.clone() * (s2.clone() * g1 * &psi + g2.clone() * &f1f2)) / &two_ab_d2,
-        -(r.clone() * (s2.clone() * g1 * &f1f2 - g2.clone() * &psi)) / &two_ab_d2,
+        -(r.clone() * (s2.clone() * g1 * &psi + g2.clone() * &f1f2)) * &inv_two_ab_d2,
+        -(r.clone() * (s2.clone() * g1 * &f1f2 - g2.clone() * &psi)) * &inv_two_ab_d2,
         // Printed with 2ab(s₁ − s₂) in the denominator: a typo, γ₃ = α₁β₂ − α₂β₁ needs ab(s₁ − s₂)
         // (docs/closed-form.md, correction 1).
-        -(a2.clone() * s2 * x - &b2) / (a.clone() * b * &d),
+        gamma3.clone(),
     ];
     // eq. (3.1)
     let omega_fixed = [
         -(r.clone() * (g1.clone() * f1 * g2 - (a2.clone() * x * x + s2.clone() * x - &two) * f2))
-            / &two_a_d2,
-        -(r.clone()
-            * (x.clone() * &g1g2 * f2 + ((b2.clone() - two.clone() * s2 * s2) * x + s2) * f1))
-            / &two_b_d2,
-        -((b2.clone() + a2.clone() * (one.clone() - two.clone() * s2 * x)) * f1 * g2
-            - (a2.clone() * s2 * x - b2.clone() * (two.clone() - s2.clone() * x)) * g1 * f2)
-            / &two_ab_d2,
+            * &inv_two_a_d2,
+        -(r.clone() * (x.clone() * &g1g2 * f2 + ((b2.clone() - twice(s2) * s2) * x + s2) * f1))
+            * &inv_two_b_d2,
+        -((b2.clone() + a2.clone() * (one.clone() - twice(s2) * x)) * f1 * g2
+            - (a2s2x - b2.clone() * (two.clone() - s2.clone() * x)) * g1 * f2)
+            * &inv_two_ab_d2,
     ];
     // Q′ and Q″ (sec. 2)
     let zero = one.zero_like();
-    let two_d = two.clone() * &d;
+    let f1f2_2d = f1f2.clone() * &inv_two_d;
     let q_prime = [
-        [
-            -(psi.clone()) / &two_d,
-            -(f1f2.clone()) / &two_d,
-            zero.clone(),
-        ],
-        [f1f2.clone() / &two_d, -(psi.clone()) / &two_d, zero.clone()],
+        [psi_2d.clone(), -(f1f2_2d.clone()), zero.clone()],
+        [f1f2_2d, psi_2d, zero.clone()],
         [zero.clone(), zero.clone(), one.clone()],
     ];
-    let abd = a.clone() * b * &d;
+    // b·X/(abd) = X/(ad), a·X/(abd) = X/(bd).
     let q_second = [
         [
-            b.clone() * (a2.clone() * x - s2) / &abd,
-            b.clone() * &g1g2 / &abd,
-            b.clone() * r * g1 / &abd,
+            (a2.clone() * x - s2) * &inv_ad,
+            g1g2.clone() * &inv_ad,
+            alpha3,
         ],
         [
-            -(a.clone() * &g1g2) / &abd,
-            a.clone() * (b2.clone() * x - s2) / &abd,
-            a.clone() * r * x * g2 / &abd,
+            -(g1g2.clone() * &inv_bd),
+            (b2.clone() * x - s2) * &inv_bd,
+            beta3,
         ],
-        [
-            r.clone() * g1 * s2 / &abd,
-            -(r.clone() * g2) / &abd,
-            (b2.clone() - a2.clone() * s2 * x) / &abd,
-        ],
+        [rg1 * s2 * &inv_abd, -(r.clone() * g2) * &inv_abd, gamma3],
     ];
     // eqs. (2.6), (2.8)
-    let omega_prime = [
-        zero.clone(),
-        zero.clone(),
-        -(f1.clone() * g2 + f2.clone() * g1) / &two_d,
-    ];
+    let omega_prime = [zero.clone(), zero.clone(), -f1g2_f2g1 * &inv_two_d];
     let omega_second_1 = [
         zero.clone(),
-        r.clone() * f1 / &two_d,
-        -(f1.clone() * g2) / &two_d,
+        r.clone() * f1 * &inv_two_d,
+        -f1g2 * &inv_two_d,
     ];
-    let omega_second_2 = [
-        -(f2.clone() * r * x) / &two_d,
-        zero,
-        -(f2.clone() * g1) / &two_d,
-    ];
+    let omega_second_2 = [-(f2.clone() * r * x) * &inv_two_d, zero, -f2g1 * &inv_two_d];
     ExplicitState {
         coords: p,
         omega,

@@ -14,6 +14,10 @@ use crate::roots::Root;
 use crate::scalar::{Scalar, GUARD_BITS};
 use crate::separated::{segments, SeparatedVariable};
 
+mod phase;
+use phase::PhaseClock;
+pub use phase::F64_CLOCK_MAX_T;
+
 /// Which torus and where on it the motion starts.
 ///
 /// Torus numbering: for each free constant sign (the radical that keeps its sign on the torus,
@@ -49,24 +53,6 @@ pub struct ExplicitMotion<T> {
     clock: Option<PhaseClock>,
 }
 
-/// u₀, u̇ and the period 4K of sn for both variables, [`GUARD_BITS`] beyond the working precision.
-#[derive(Clone, Debug)]
-struct PhaseClock {
-    bits: u32,
-    u0: [Float; 2],
-    u_dot: [Float; 2],
-    four_k: [Float; 2],
-}
-
-impl PhaseClock {
-    /// u at time t reduced to [0, 4K).
-    fn reduced(&self, i: usize, t: &Float) -> Float {
-        let u = Float::with_val(self.bits, &self.u_dot[i] * t) + &self.u0[i];
-        let n = Float::with_val(self.bits, &u / &self.four_k[i]).floor();
-        u - n * &self.four_k[i]
-    }
-}
-
 type Segment<T> = (Root<T>, Root<T>);
 
 fn free_sign_of<T: Real>(
@@ -89,12 +75,12 @@ impl<T: Scalar> ExplicitMotion<T> {
         let exact = ExplicitMotion::<Float>::build(up(&a), up(&b), up(&m), up(&h), choice)?;
         let down = |x: &Float| T::from_mpfr(x, bits);
         let vars = [&exact.first, &exact.second];
-        let clock = PhaseClock {
-            bits: hi,
-            u0: exact.u0.clone(),
-            u_dot: vars.map(|v| v.u_dot.clone()),
-            four_k: vars.map(|v| v.modulus.big_k.clone() * 4u32),
-        };
+        let clock = PhaseClock::new(
+            hi,
+            exact.u0.clone(),
+            vars.map(|v| v.u_dot.clone()),
+            vars.map(|v| v.modulus.big_k.clone() * 4u32),
+        );
         Ok(Self {
             constants: exact.constants.map(&down),
             camera: exact.camera,
@@ -115,12 +101,23 @@ impl<T: Scalar> ExplicitMotion<T> {
         })
     }
 
-    /// The parameters u₁, u₂ of the elliptic functions at time t, reduced modulo 4K.
+    /// The parameters u₁, u₂ of the elliptic functions at time t, reduced modulo 4K with
+    /// [`GUARD_BITS`] extra bits: from f64 expansions at f64 precision (bit for bit the MPFR
+    /// reduction, see `motion/phase.rs`), in MPFR otherwise.
     fn u_at(&self, t: &T) -> [T; 2] {
         match &self.clock {
             Some(clock) => {
                 let bits = self.constants.a.prec();
-                let tt = t.to_mpfr(clock.bits);
+                if bits <= 53 {
+                    // t has at most 53 bits: it is the f64 t.to_f64().
+                    let tf = t.to_f64();
+                    if let (Some(u1), Some(u2)) =
+                        (clock.reduced_f64(0, tf), clock.reduced_f64(1, tf))
+                    {
+                        return [T::from_f64(u1, bits), T::from_f64(u2, bits)];
+                    }
+                }
+                let tt = t.to_mpfr(clock.bits());
                 std::array::from_fn(|i| T::from_mpfr(&clock.reduced(i, &tt), bits))
             }
             None => {

@@ -58,7 +58,10 @@ enum Factor<T> {
 
 #[derive(Clone, Debug)]
 struct RadicalShape<T> {
-    c_abs: T,
+    /// |c|·Π over the active factors of coef·|L_κ(λ or μ)|: the constant part of R² times den².
+    scale: T,
+    /// √scale when both factors are active (the radical then needs no square root).
+    root_scale: Option<T>,
     factors: [Factor<T>; 2],
     /// Constant sign σ of the radical (±1).
     sigma: T,
@@ -242,18 +245,24 @@ impl<T: Real> SeparatedVariable<T> {
             )));
         }
         let u_dot = u_dot2.sqrt();
-        let shapes = [
+        let radical_shape = |c: &T, factors: [Factor<T>; 2], sigma: i32| {
+            let mut scale = c.abs();
+            for fac in &factors {
+                match fac {
+                    Factor::Lambda { coef } => scale *= coef.clone() * lk_lambda.abs(),
+                    Factor::Mu { coef } => scale *= coef.clone() * lk_mu.abs(),
+                    Factor::Passive { .. } => {}
+                }
+            }
+            let root_scale = (actives(&factors) == 2).then(|| scale.sqrt());
             RadicalShape {
-                c_abs: f.c.abs(),
-                factors: ff,
-                sigma: one.lit(f64::from(sf)),
-            },
-            RadicalShape {
-                c_abs: g.c.abs(),
-                factors: gf,
-                sigma: one.lit(f64::from(sg)),
-            },
-        ];
+                scale,
+                root_scale,
+                factors,
+                sigma: one.lit(f64::from(sigma)),
+            }
+        };
+        let shapes = [radical_shape(&f.c, ff, sf), radical_shape(&g.c, gf, sg)];
         Ok(Self {
             name,
             lambda,
@@ -282,7 +291,8 @@ impl<T: Real> SeparatedVariable<T> {
             },
         };
         let shape = |s: &RadicalShape<T>| RadicalShape {
-            c_abs: f(&s.c_abs),
+            scale: f(&s.scale),
+            root_scale: s.root_scale.as_ref().map(f),
             factors: [factor(&s.factors[0]), factor(&s.factors[1])],
             sigma: f(&s.sigma),
         };
@@ -376,31 +386,43 @@ impl<T: Real> SeparatedVariable<T> {
 
     /// v, F, G at a point of the parametrisation given by sn u and cn u, in any scalar `S` that
     /// embeds `T` (e.g. dual numbers for derivatives along the flow).
+    ///
+    /// With w_λ = L_κ(μ)cn², w_μ = L_κ(λ)sn² and den = w_λ + w_μ (never 0: the weights have one
+    /// sign): v = (λw_λ + μw_μ)/den, and a radical R = σ·√(|c|·|L₁(v)|·|L₂(v)|) with each active
+    /// factor |L| = coef·|L_κ|·(sn² or cn²)/|den| and each passive one |λ-value·w_λ + μ-value·w_μ|/|den|:
+    /// R = σ·(sn or cn per active factor)·√(scale·Π|passive numerators|)/|den|, where the
+    /// constant `scale` (and its root when both factors are active) is computed once with the
+    /// motion. One division and at most one square root per radical.
     pub fn eval<S: Real + From<T>>(&self, sn: &S, cn: &S) -> SeparatedPoint<S> {
         let up = |x: &T| S::from(x.clone());
         let wl = up(&self.lk_mu) * cn * cn;
         let wm = up(&self.lk_lambda) * sn * sn;
         let den = wl.clone() + &wm;
-        let v = (up(&self.lambda_v) * &wl + up(&self.mu_v) * &wm) / &den;
+        let inv_den = den.one_like() / &den;
+        let v = (up(&self.lambda_v) * &wl + up(&self.mu_v) * &wm) * &inv_den;
+        let inv_den = inv_den.abs();
         let radical = |shape: &RadicalShape<T>| -> S {
-            let mut prod = up(&shape.c_abs);
             let mut sign = up(&shape.sigma);
+            let mut passive: Option<S> = None;
             for fac in &shape.factors {
                 match fac {
-                    Factor::Lambda { coef } => {
-                        prod *= up(coef) * up(&self.lk_lambda) / &den;
-                        sign *= sn;
-                    }
-                    Factor::Mu { coef } => {
-                        prod *= up(coef) * up(&self.lk_mu) / &den;
-                        sign *= cn;
-                    }
+                    Factor::Lambda { .. } => sign *= sn,
+                    Factor::Mu { .. } => sign *= cn,
                     Factor::Passive { at_lambda, at_mu } => {
-                        prod *= ((up(at_lambda) * &wl + up(at_mu) * &wm) / &den).abs();
+                        let num = (up(at_lambda) * &wl + up(at_mu) * &wm).abs();
+                        passive = Some(match passive {
+                            None => num,
+                            Some(p) => p * num,
+                        });
                     }
                 }
             }
-            sign * prod.sqrt()
+            let root = match (&shape.root_scale, passive) {
+                (Some(r), _) => up(r),
+                (None, Some(p)) => (p * up(&shape.scale)).sqrt(),
+                (None, None) => up(&shape.scale).sqrt(),
+            };
+            sign * root * &inv_den
         };
         SeparatedPoint {
             f: radical(&self.shapes[0]),

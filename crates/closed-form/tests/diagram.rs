@@ -557,6 +557,21 @@ fn a_point_in_each_camera_agrees_with_table1() {
             assert!(v.period > 0.0 && close(v.period * v.frequency, 2.0 * std::f64::consts::PI));
         }
         assert!(close(d.rotation_number, d.s1.frequency / d.s2.frequency));
+        // The normal type: λ² = −4r⁴mℓ², hyperbolic exactly in the cameras with m < 0.
+        let r4 = (1.0f64 - 0.25).powi(2);
+        assert!(
+            close(d.normal.lambda2, -4.0 * r4 * d.m * d.ell * d.ell),
+            "{label}"
+        );
+        let hyperbolic = d.normal.kind == rsts_closed_form::manifold::NormalType::Hyperbolic;
+        assert_eq!(
+            hyperbolic,
+            label.ends_with('-') || ["III", "V", "VI"].contains(&label),
+            "{label}"
+        );
+        assert!(d
+            .to_string()
+            .contains(&format!("N is normally {}", d.normal.kind)));
         // Seed sec. 3 (after Table 2): F1* keeps its sign in III, V, VI; F2 in II, IV, V;
         // G1* in IV; G2 in VI; all other radicals change sign.
         let numeral = label.trim_end_matches(['+', '-']);

@@ -168,3 +168,19 @@ fn long_times_keep_the_phase_at_high_precision() {
         .fold(0.0, f64::max);
     assert!(err < 1e-48, "50 vs 80 digits at t = 1e6: {err:e}");
 }
+
+/// Long times in f64: the phase is reduced from f64 expansions of the 117-bit constants
+/// (motion/phase.rs); up to t = 1.5e9 the f64 state stays within the documented round-off level
+/// (≤ 5e-15, docs/closed-form.md) of the 60-digit one at every example point, and past
+/// F64_CLOCK_MAX_T (MPFR reduction) too.
+#[test]
+fn f64_state_at_long_times_stays_at_round_off() {
+    let times = [1.0e7, 123_456_789.125, 1.0e9 + 0.5, 1.5e9, 3.0e12];
+    for (camera, m, h) in rsts_closed_form::EXAMPLE_POINTS_A1_B05 {
+        let err = f64_error(1.0, 0.5, m, h, &times);
+        assert!(
+            err < 5e-15,
+            "{camera:?}: f64 off the 60-digit state by {err:e}"
+        );
+    }
+}

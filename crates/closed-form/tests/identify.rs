@@ -343,3 +343,57 @@ fn bad_input_is_refused_with_the_reason() {
         Err(e) => panic!("{e}"),
     }
 }
+
+#[test]
+fn the_projector_finds_the_phases_and_the_torus_shift_of_a_nearby_state() {
+    // A state of the torus (m + δm, h + δh) projected with the projector of (m, h): the phases,
+    // δm and δh come back (to the O(δ²) of the first-order model), the departure is nil; moved off
+    // N, the departure is the move.
+    use rsts_closed_form::manifold::Projector;
+    for (label, m, h) in CAMERA_POINTS {
+        let tori = tori_of("1", "0.5", &m.to_string(), &h.to_string());
+        let torus = tori - 1;
+        let choice = TorusChoice {
+            torus,
+            phase1: 0.0,
+            phase2: 0.0,
+        };
+        let motion = ExplicitMotion::new(1.0, 0.5, m, h, choice).unwrap();
+        let projector = Projector::new(&motion).unwrap();
+        let (dm, dh) = (3e-9, -2e-9);
+        let near = ExplicitMotion::new(1.0, 0.5, m + dm, h + dh, choice).unwrap();
+        let psi = [1.3, 4.1];
+        let target = state_of(&near.at_angles(&psi[0], &psi[1])).to_array();
+        let p = projector.project(&target, &[1.31, 4.08]).unwrap();
+        let what = format!("{label} torus {torus}");
+        assert!(
+            angle_gap(p.phases[0], psi[0]) < 1e-9 && angle_gap(p.phases[1], psi[1]) < 1e-9,
+            "{what}: {:?}",
+            p.phases
+        );
+        // m + δm and h + δh are rounded to f64 (1e-16 relative).
+        assert!(
+            (p.dm - dm).abs() < 1e-13 && (p.dh - dh).abs() < 1e-13,
+            "{what}: δm {:e} δh {:e}",
+            p.dm,
+            p.dh
+        );
+        assert!(p.departure < 1e-13, "{what}: departure {:e}", p.departure);
+        // The exact state itself: nothing moves.
+        let exact = state_of(&motion.at_angles(&psi[0], &psi[1])).to_array();
+        let q = projector.project(&exact, &psi).unwrap();
+        assert!(
+            q.dm.abs() < 1e-14 && q.dh.abs() < 1e-14 && q.departure < 1e-14,
+            "{what}"
+        );
+        // Off N by 1e-7 (ω₃): the departure sees (most of) it.
+        let mut off = exact;
+        off[2] += 1e-7;
+        let r = projector.project(&off, &psi).unwrap();
+        assert!(
+            r.departure > 1e-9 && r.departure <= 1e-7 * (1.0 + 1e-6),
+            "{what}: departure {:e}",
+            r.departure
+        );
+    }
+}

@@ -279,6 +279,11 @@ impl<T: Real> CauchyScratch<T> {
     }
 }
 
+/// A quadratic term flattened: coefficient (parameter multiplied in), i, j, component k.
+pub(crate) type FlatTerm<T> = (T, usize, usize, usize);
+/// A linear term flattened: coefficient, i, component k.
+pub(crate) type FlatLinearTerm<T> = (T, usize, usize);
+
 /// A term with its coefficient evaluated in the scalar type.
 #[derive(Clone, Debug)]
 struct Term<T> {
@@ -290,6 +295,8 @@ struct Term<T> {
 /// The Euler–Poisson vector field for given field strengths, ready to evaluate in scalar `T`.
 #[derive(Clone, Debug)]
 pub struct VectorField<T> {
+    /// The table the field was built from.
+    table: [Component; DIM],
     terms: Vec<Vec<Term<T>>>,
     /// Built from [`EULER_POISSON`] itself: the const-unrolled kernel applies.
     standard: bool,
@@ -298,9 +305,9 @@ pub struct VectorField<T> {
     quad_c: Vec<T>,
     lin_c: Vec<T>,
     /// Flattened terms (coefficient, i, j, component k) of the table, for other tables.
-    quad: Vec<(T, usize, usize, usize)>,
+    quad: Vec<FlatTerm<T>>,
     /// Flattened linear terms (coefficient, i, component k).
-    lin: Vec<(T, usize, usize)>,
+    lin: Vec<FlatLinearTerm<T>>,
 }
 
 fn coefficient<T: Real>(fields: &Fields<T>, c: f64, param: Param) -> T {
@@ -364,6 +371,7 @@ impl<T: Real> VectorField<T> {
             }
         }
         Self {
+            table: *table,
             terms,
             standard,
             quad_c,
@@ -371,6 +379,18 @@ impl<T: Real> VectorField<T> {
             quad,
             lin,
         }
+    }
+
+    /// The table's terms flattened in table order: quadratic terms (coefficient with its
+    /// parameter multiplied in, i, j, component k) and linear terms (coefficient, i, k). The
+    /// limb-level MPFR kernel is built from this list.
+    pub(crate) fn flat_terms(&self) -> (&[FlatTerm<T>], &[FlatLinearTerm<T>]) {
+        (&self.quad, &self.lin)
+    }
+
+    /// The table of equations the field was built from.
+    pub fn table(&self) -> &[Component; DIM] {
+        &self.table
     }
 
     /// dx/dt = f(x).

@@ -270,11 +270,18 @@ fn high_and_low_precision_outputs_agree() {
 fn bad_settings_give_errors() {
     let grid = OutputGrid::new(1.0, 3).unwrap();
     let p = problem(1);
-    // Tolerance below the unit round-off of the scalar.
-    let e = config(MethodName::TaylorF64, 1e-17, None).propagate_f64(&p, &grid);
+    // Tolerance below the unit round-off the method can deliver: 2^-(53 + 8) for taylor-f64 and
+    // 2^-(106 + 8) for taylor-dd (compensated state), 2^-bits for taylor-mp.
+    let e = config(MethodName::TaylorF64, 1e-20, None).propagate_f64(&p, &grid);
     assert!(matches!(e, Err(DynamicsError::Settings(_))), "{e:?}");
-    let e = config(MethodName::TaylorDd, 1e-33, None).propagate_f64(&p, &grid);
+    assert!(config(MethodName::TaylorF64, 1e-18, None)
+        .propagate_f64(&p, &grid)
+        .is_ok());
+    let e = config(MethodName::TaylorDd, 1e-36, None).propagate_f64(&p, &grid);
     assert!(matches!(e, Err(DynamicsError::Settings(_))), "{e:?}");
+    assert!(config(MethodName::TaylorDd, 1e-34, None)
+        .propagate_f64(&p, &grid)
+        .is_ok());
     let e = config(MethodName::TaylorMp, 1e-40, Some(30)).propagate_f64(&p, &grid);
     assert!(matches!(e, Err(DynamicsError::Settings(_))), "{e:?}");
     // Digits out of range.

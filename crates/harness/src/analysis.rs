@@ -15,6 +15,7 @@ use rsts_dynamics::{Fields, State};
 use rug::Float;
 
 use crate::case::Case;
+use crate::geometry::Geometry;
 use crate::metrics::{exact_state, sample_errors, Drift, ManifoldN, Report, SampleErrors};
 use crate::{HarnessError, SampleRecord};
 
@@ -54,11 +55,13 @@ pub struct Analysis {
     initial_integrals: [Float; 3],
     bits: u32,
     report: Report,
+    geometry: Option<Geometry>,
 }
 
 impl Analysis {
     /// Measure against `motion` (evaluated at the precision of its constants) in `fields`.
     pub fn new(motion: ExplicitMotion<Float>, fields: Fields<Float>, info: RunInfo) -> Self {
+        let info_digits = info.digits;
         let c = &motion.constants;
         let bits = c.m.prec();
         let r4 = c.r2.clone() * &c.r2;
@@ -87,7 +90,13 @@ impl Analysis {
             rhs_evals: 0,
             integration_seconds: 0.0,
             wall_seconds: None,
+            normal: None,
+            phase_error: None,
+            error_split: None,
         };
+        // The geometry of the error in the integrator's precision; a motion that exists only
+        // at the reference precision (within rounding of Σ) goes without it.
+        let geometry = Geometry::new(&motion, info_digits).ok();
         Self {
             motion,
             fields,
@@ -95,6 +104,7 @@ impl Analysis {
             initial_integrals: [i0.h, i0.k, i0.g],
             bits,
             report,
+            geometry,
         }
     }
 
@@ -131,13 +141,23 @@ impl Analysis {
         observer: &mut dyn Observer,
     ) -> Result<SampleErrors, HarnessError> {
         let exact = self.exact_state(t);
-        let (errors, ex, int) = sample_errors(
+        let (mut errors, ex, int) = sample_errors(
             &self.fields,
             &self.n,
             &self.initial_integrals,
             &exact,
             state,
         );
+        if let Some(g) = self
+            .geometry
+            .as_mut()
+            .and_then(|geometry| geometry.sample(t, state, &exact, errors.state_error))
+        {
+            errors.distance_from_n = g.distance_from_n;
+            errors.x_phi = g.x_phi;
+            errors.along_n = g.along_n;
+            errors.phase_error = g.phase_error.unwrap_or([f64::NAN; 2]);
+        }
         let index = self.report.samples_compared;
         self.report.absorb(&errors);
         observer
@@ -177,8 +197,16 @@ impl Analysis {
         &self.report
     }
 
+    /// The report with the growth fits and the split of the error (docs/stability.md).
     pub fn finish(self) -> Report {
-        self.report
+        let mut report = self.report;
+        if let Some(geometry) = self.geometry {
+            let g = geometry.finish();
+            report.normal = Some(g.normal);
+            report.phase_error = Some(g.phase_error);
+            report.error_split = g.error_split;
+        }
+        report
     }
 }
 

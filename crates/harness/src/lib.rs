@@ -20,6 +20,8 @@ pub mod analysis;
 pub mod bench;
 mod case;
 mod compare;
+pub mod geometry;
+pub mod growth;
 pub mod integrator;
 mod metrics;
 

@@ -8,6 +8,8 @@ use rsts_dynamics::{Fields, Real, State};
 use rug::Float;
 use serde::Serialize;
 
+use crate::geometry::{ErrorSplit, NormalSummary, PhaseErrorSummary};
+
 /// A state as plotted and logged (f64): orientation rows α, β, γ, ω, Ω = Qω and H, K, G.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct StateSnapshot {
@@ -32,8 +34,18 @@ pub struct SampleErrors {
     pub drift_g: f64,
     /// max(||α|² − 1|, ||β|² − 1|, |α·β|).
     pub constraint_drift: f64,
-    /// Distance from N: max(|K − r⁴m²|, |2G − p²H − r⁴m|).
+    /// Drift of the on-N integral relations: max(|K − r⁴m²|, |2G − p²H − r⁴m|). Not a
+    /// distance from N: a departure from N within the level set of H, K, G leaves it at 0.
     pub off_n: f64,
+    /// Distance of the integrated state from its nearest point on N (state units, max-norm).
+    pub distance_from_n: f64,
+    /// |X_Φ| at the integrated state, Φ = r⁴K − (2G − p²H)²: the regular measure of the
+    /// departure from N, derived from the integrals.
+    pub x_phi: f64,
+    /// Distance of that nearest point from the exact state: the drift along N.
+    pub along_n: f64,
+    /// ψᵢ − ψᵢ(exact) of the nearest point, in (−π, π] (NaN when no nearest point was found).
+    pub phase_error: [f64; 2],
 }
 
 /// One sample of a comparison.
@@ -87,6 +99,13 @@ pub struct Report {
     /// included); absent for in-process integrators.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wall_seconds: Option<f64>,
+    /// The departure from N: normal type, distance (max, final), its growth (null when the
+    /// geometry could not be computed in the integrator's precision).
+    pub normal: Option<NormalSummary>,
+    /// The phase error of the nearest point on N and its growth.
+    pub phase_error: Option<PhaseErrorSummary>,
+    /// What dominates the state error (null: the error saturated from the first sample).
+    pub error_split: Option<ErrorSplit>,
 }
 
 impl Report {
@@ -173,6 +192,11 @@ pub(crate) fn sample_errors(
         drift_g: (ints.g.clone() - &initial_integrals[2]).abs().to_f64(),
         constraint_drift: integrated.constraint_error().to_f64(),
         off_n: off_k.max_of(off_g).to_f64(),
+        // Filled in by the geometry of the error (crate::geometry).
+        distance_from_n: f64::NAN,
+        x_phi: f64::NAN,
+        along_n: f64::NAN,
+        phase_error: [f64::NAN; 2],
     };
     (
         errors,

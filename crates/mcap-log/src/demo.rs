@@ -112,6 +112,11 @@ pub fn errors(exact: &BodyState, integrated: &BodyState, initial: &BodyState) ->
         drift_g: integrated.g - initial.g,
         constraint_drift: c.sqrt(),
         off_n: norm([0, 1, 2].map(|i| qw[i] - integrated.omega_fixed[i])),
+        distance_from_n: None,
+        x_phi: None,
+        along_n: None,
+        phase_error_psi1: None,
+        phase_error_psi2: None,
     }
 }
 

@@ -87,7 +87,35 @@ pub const ERROR_FIELDS: &[(&str, &str)] = &[
         "constraint_drift",
         "drift of the geometric constraints (orthonormality of Q)",
     ),
-    ("off_n", "harness-defined off-manifold measure"),
+    (
+        "off_n",
+        "drift of the on-N integral relations max(|K - r^4 m^2|, |2G - p^2 H - r^4 m|)",
+    ),
+];
+
+/// The fields of `/errors` that the harness adds when it measures the geometry of the error
+/// (issue 11); optional, each with its `log10_<name>` companion like [`ERROR_FIELDS`].
+pub const OPTIONAL_ERROR_FIELDS: &[(&str, &str)] = &[
+    (
+        "distance_from_n",
+        "distance of the integrated state from its nearest point on N (state units)",
+    ),
+    (
+        "x_phi",
+        "|X_Phi| at the integrated state, Phi = r^4 K - (2G - p^2 H)^2",
+    ),
+    (
+        "along_n",
+        "distance of the nearest point on N from the exact state (drift along N)",
+    ),
+    (
+        "phase_error_psi1",
+        "psi1 of the nearest point on N minus the exact psi1 (rad)",
+    ),
+    (
+        "phase_error_psi2",
+        "psi2 of the nearest point on N minus the exact psi2 (rad)",
+    ),
 ];
 
 /// The name of the log10 companion of an `/errors` field: `log10_<name>`.
@@ -101,10 +129,10 @@ pub fn log10_field(name: &str) -> String {
 pub static ERRORS: LazyLock<String> = LazyLock::new(|| {
     let mut properties = Map::new();
     properties.insert("t".into(), described(number(), "motion time (s)"));
-    for (name, desc) in ERROR_FIELDS {
+    for (name, desc) in ERROR_FIELDS.iter().chain(OPTIONAL_ERROR_FIELDS) {
         properties.insert(name.to_string(), described(number(), desc));
     }
-    for (name, _) in ERROR_FIELDS {
+    for (name, _) in ERROR_FIELDS.iter().chain(OPTIONAL_ERROR_FIELDS) {
         let desc = format!(
             "log10 |{name}| (absent where {name} is 0 or not finite): plot this to see the errors on a logarithmic scale"
         );

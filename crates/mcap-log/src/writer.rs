@@ -111,6 +111,20 @@ pub struct ErrorSample {
     pub drift_g: f64,
     pub constraint_drift: f64,
     pub off_n: f64,
+    /// Distance of the integrated state from its nearest point on N (issue 11).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distance_from_n: Option<f64>,
+    /// |X_Φ| at the integrated state (the regular, integral-derived departure from N).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_phi: Option<f64>,
+    /// Distance of that nearest point from the exact state (drift along N).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub along_n: Option<f64>,
+    /// Phase errors ψ₁, ψ₂ of the nearest point against the exact angles (radians).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phase_error_psi1: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phase_error_psi2: Option<f64>,
 }
 
 /// One sample of a comparison. `t` is the motion time in seconds.

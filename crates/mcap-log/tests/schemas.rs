@@ -291,7 +291,7 @@ fn errors_carry_log10_fields() {
             }
         }
         let logs = obj.keys().filter(|k| k.starts_with("log10_")).count();
-        assert!(logs <= schemas::ERROR_FIELDS.len());
+        assert!(logs <= schemas::ERROR_FIELDS.len() + schemas::OPTIONAL_ERROR_FIELDS.len());
     }
     // The demo motion has non-zero errors after t = 0.
     assert!(with_logs >= 19 * 3, "{with_logs}");

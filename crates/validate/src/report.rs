@@ -289,13 +289,13 @@ impl Report {
         let _ = writeln!(s, "## Runs\n");
         let _ = writeln!(
             s,
-            "Max error: max |x_int − x_exact| over (ω, α, β) and the samples (closed form: |f64 − 50 digits|). Drift: max over H, K, G and the constraints (closed form: Euler–Poisson residual at 50 digits). Growth: fit of log(state error) against log t or t (p of t^p, λ of e^(λt)); off N likewise. Time: integration (closed form: the whole check).\n"
+            "Max error: max |x_int − x_exact| over (ω, α, β) and the samples (closed form: |f64 − 50 digits|). Drift: max over H, K, G and the constraints (closed form: Euler–Poisson residual at 50 digits). Growth: fit of log(state error) against log t or t (p of t^p, λ of e^(λt)); off N likewise. Off N: drift of the on-N integral relations max(|K − r⁴m²|, |2G − p²H − r⁴m|) (blind to a departure from N inside the level set of the integrals). The error is: what dominates the state error — drift along the torus (phase error) or departure from N (distance of the state from its nearest point of N), with its growth and N's normal type (docs/stability.md). Time: integration (closed form: the whole check).\n"
         );
         let _ = writeln!(
             s,
-            "| run | case | camera | method | max error | drift | off N | growth (error; off N) | time (s) | result |"
+            "| run | case | camera | method | max error | drift | off N | growth (error; off N) | the error is | time (s) | result |"
         );
-        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|");
         let e = |x: f64| format!("{x:.2e}");
         for r in &self.runs {
             let method = match (r.rtol, r.digits) {
@@ -316,6 +316,18 @@ impl Report {
             } else {
                 String::new()
             };
+            let split = match (&r.error_split, &r.normal, &r.phase_error) {
+                (Some(s), Some(n), Some(p)) => {
+                    let growth = if s.dominant == "departure from N" {
+                        &n.growth
+                    } else {
+                        &p.growth
+                    };
+                    let g = growth.map(|g| format!(", {}", g.describe()));
+                    format!("{}{} (N {})", s.dominant, g.unwrap_or_default(), n.kind)
+                }
+                _ => String::new(),
+            };
             let result = match r.status {
                 Status::Pass => "pass".to_string(),
                 Status::Fail => format!("**FAIL**: {}", r.failures.join("; ")),
@@ -323,7 +335,7 @@ impl Report {
             };
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {:.3} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} | {} |",
                 r.id,
                 r.case,
                 r.camera,
@@ -332,6 +344,7 @@ impl Report {
                 drift,
                 off,
                 growth,
+                split,
                 time_of(r),
                 result.replace('|', "\\|")
             );
@@ -495,6 +508,9 @@ mod tests {
             closed_form: None,
             growth: GrowthFits::default(),
             series: Series::default(),
+            normal: None,
+            phase_error: None,
+            error_split: None,
             timing: Timing {
                 integration_seconds: seconds,
                 wall_seconds: seconds,

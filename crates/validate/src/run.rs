@@ -6,6 +6,7 @@ use rayon::prelude::*;
 use rsts_closed_form::TorusChoice;
 use rsts_dynamics::integrators::Tolerances;
 use rsts_external::Exec;
+use rsts_harness::geometry::{ErrorSplit, NormalSummary, PhaseErrorSummary};
 use rsts_harness::{compare_integrator, CompareOptions, Integrator, Observer, SampleRecord};
 use serde::{Deserialize, Serialize};
 
@@ -130,6 +131,14 @@ pub struct RunResult {
     pub growth: GrowthFits,
     #[serde(default)]
     pub series: Series,
+    /// The geometry of the error, as in compare's JSON (docs/stability.md): departure from N,
+    /// phase error, what dominates.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub normal: Option<NormalSummary>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub phase_error: Option<PhaseErrorSummary>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub error_split: Option<ErrorSplit>,
     pub timing: Timing,
 }
 
@@ -263,6 +272,9 @@ pub fn execute(run: &Run) -> RunResult {
         closed_form: None,
         growth: GrowthFits::default(),
         series: Series::default(),
+        normal: None,
+        phase_error: None,
+        error_split: None,
         timing: Timing::default(),
     };
     let external = match &run.kind {
@@ -343,6 +355,9 @@ fn integrate_run(run: &Run, integrator: &mut dyn Integrator, r: &mut RunResult) 
                 samples_compared: rep.samples_compared,
             });
             r.timing.integration_seconds = rep.integration_seconds;
+            r.normal = rep.normal.clone();
+            r.phase_error = rep.phase_error.clone();
+            r.error_split = rep.error_split.clone();
             r.growth = GrowthFits {
                 state_error: growth::fit(&obs.t, &obs.state_error),
                 off_n: growth::fit(&obs.t, &obs.off_n),
@@ -427,5 +442,38 @@ mod tests {
         );
         // Same figures whatever the number of threads.
         assert_eq!(int.figures, Some(f));
+    }
+
+    #[test]
+    fn runs_report_the_geometry_of_their_error_as_compare_does() {
+        use rsts_closed_form::manifold::NormalType;
+        // Camera V (m < 0, N normally hyperbolic) and I+ (elliptic), 1e-8.
+        let text = "[[case]]\nname = \"v\"\nm = -0.7092\nh = 1.5643\ntori = [2]\nt_end = 100.0\nsamples = 1001\nmethods = [\"dopri5\"]\ntolerances = [1e-8]\nclosed_form = false\n[[case]]\nname = \"i\"\nm = 0.3\nh = -0.375\ntori = [0]\nt_end = 100.0\nsamples = 1001\nmethods = [\"dopri5\"]\ntolerances = [1e-8]\nclosed_form = false\n";
+        let suite = Suite::parse(text, "s").unwrap();
+        let results = execute_all(&suite.runs, 2, &|_| {}).unwrap();
+        let by = |case: &str| results.iter().find(|r| r.case == case).unwrap();
+        let (v, i) = (by("v"), by("i"));
+        let n = v.normal.as_ref().unwrap();
+        assert_eq!(n.kind, NormalType::Hyperbolic);
+        let g = n.growth.unwrap();
+        assert_eq!(g.kind, growth::Model::Exponential, "{n:?}");
+        assert!(g.rate > 0.18 && g.rate < 0.3, "{g:?}");
+        assert_eq!(v.error_split.as_ref().unwrap().dominant, "departure from N");
+        let n = i.normal.as_ref().unwrap();
+        assert_eq!(n.kind, NormalType::Elliptic);
+        assert!(n.distance_from_n.max < 1e-6, "{n:?}");
+        assert_eq!(
+            i.error_split.as_ref().unwrap().dominant,
+            "drift along the torus"
+        );
+        // report.json and baselines read it back.
+        let back: RunResult = serde_json::from_str(&serde_json::to_string(v).unwrap()).unwrap();
+        assert_eq!(back.normal, v.normal);
+        assert_eq!(back.error_split, v.error_split);
+        // A NaN (written as null) reads back as NaN.
+        let mut nan = v.clone();
+        nan.normal.as_mut().unwrap().distance_from_n.last = f64::NAN;
+        let back: RunResult = serde_json::from_str(&serde_json::to_string(&nan).unwrap()).unwrap();
+        assert!(back.normal.unwrap().distance_from_n.last.is_nan());
     }
 }

@@ -147,6 +147,11 @@ impl CliObserver {
     }
 }
 
+/// A logged value, absent when not finite (no nearest point on N was found).
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
 fn body(s: &rsts_harness::StateSnapshot) -> BodyState {
     BodyState {
         q: s.q,
@@ -174,6 +179,11 @@ impl Observer for CliObserver {
                     drift_g: e.drift_g,
                     constraint_drift: e.constraint_drift,
                     off_n: e.off_n,
+                    distance_from_n: finite(e.distance_from_n),
+                    x_phi: finite(e.x_phi),
+                    along_n: finite(e.along_n),
+                    phase_error_psi1: finite(e.phase_error[0]),
+                    phase_error_psi2: finite(e.phase_error[1]),
                 }),
             })
             .map_err(|e| format!("writing the MCAP file: {e}"))?;
@@ -327,65 +337,110 @@ pub(crate) fn write_table(
 ) -> anyhow::Result<()> {
     let (a, b, m, h, torus) = case;
     let e = |x: f64| format!("{x:.3e}");
-    output::write_key_values(
-        out,
-        &[
-            (
-                "camera",
-                format!(
-                    "{} (a = {a}, b = {b}, m = {m}, h = {h}, torus {torus})",
-                    r.camera
-                ),
+    let mut items = vec![
+        (
+            "camera",
+            format!(
+                "{} (a = {a}, b = {b}, m = {m}, h = {h}, torus {torus})",
+                r.camera
             ),
-            (
-                "method",
-                format!(
-                    "{} ({}{} digits; reference {} digits)",
-                    r.method,
-                    match (r.rtol, r.atol) {
-                        (Some(rtol), Some(atol)) => format!("rtol {rtol:e}, atol {atol:e}, "),
-                        _ => String::new(),
-                    },
-                    r.digits,
-                    r.reference_digits
-                ),
-            ),
-            (
-                "samples",
-                format!(
-                    "{} over [{span}]{}",
-                    r.samples_compared,
-                    if r.complete { "" } else { " (interrupted)" }
-                ),
-            ),
-            ("max state error", e(r.max_state_error)),
-            ("final state error", e(r.final_state_error)),
-            (
-                "max orientation error",
-                format!("{} rad", e(r.max_orientation_error)),
-            ),
-            (
-                "drift of H, K, G",
-                format!("{}, {}, {}", e(r.drift.h), e(r.drift.k), e(r.drift.g)),
-            ),
-            ("constraint drift", e(r.drift.constraints)),
-            ("distance from N", e(r.drift.off_n)),
-            (
-                "steps (rejected)",
-                format!("{} ({})", r.steps, r.rejected_steps),
-            ),
-            ("rhs evaluations", r.rhs_evals.to_string()),
-            (
-                "integration time",
-                match r.wall_seconds {
-                    Some(w) => format!(
-                        "{:.6} s (process wall time {w:.6} s)",
-                        r.integration_seconds
-                    ),
-                    None => format!("{:.6} s", r.integration_seconds),
+        ),
+        (
+            "method",
+            format!(
+                "{} ({}{} digits; reference {} digits)",
+                r.method,
+                match (r.rtol, r.atol) {
+                    (Some(rtol), Some(atol)) => format!("rtol {rtol:e}, atol {atol:e}, "),
+                    _ => String::new(),
                 },
+                r.digits,
+                r.reference_digits
             ),
-        ],
-    )?;
+        ),
+        (
+            "samples",
+            format!(
+                "{} over [{span}]{}",
+                r.samples_compared,
+                if r.complete { "" } else { " (interrupted)" }
+            ),
+        ),
+        ("max state error", e(r.max_state_error)),
+        ("final state error", e(r.final_state_error)),
+        (
+            "max orientation error",
+            format!("{} rad", e(r.max_orientation_error)),
+        ),
+        (
+            "drift of H, K, G",
+            format!("{}, {}, {}", e(r.drift.h), e(r.drift.k), e(r.drift.g)),
+        ),
+        ("constraint drift", e(r.drift.constraints)),
+        ("drift of on-N relations", e(r.drift.off_n)),
+        (
+            "steps (rejected)",
+            format!("{} ({})", r.steps, r.rejected_steps),
+        ),
+        ("rhs evaluations", r.rhs_evals.to_string()),
+        (
+            "integration time",
+            match r.wall_seconds {
+                Some(w) => format!(
+                    "{:.6} s (process wall time {w:.6} s)",
+                    r.integration_seconds
+                ),
+                None => format!("{:.6} s", r.integration_seconds),
+            },
+        ),
+    ];
+    items.extend(geometry_lines(r));
+    output::write_key_values(out, &items)?;
     Ok(())
+}
+
+/// The geometry of the error (docs/stability.md): distance from N, phase error, what dominates.
+fn geometry_lines(r: &Report) -> Vec<(&'static str, String)> {
+    let e = |x: f64| format!("{x:.3e}");
+    let grows = |g: &Option<rsts_harness::geometry::GrowthSummary>| match g {
+        Some(g) => format!("grows like {}", g.describe()),
+        None => "too few samples for a growth fit".to_string(),
+    };
+    let mut lines = Vec::new();
+    if let Some(n) = &r.normal {
+        lines.push((
+            "distance from N",
+            format!(
+                "max {}, final {} ({}; N normally {} here)",
+                e(n.distance_from_n.max),
+                e(n.distance_from_n.last),
+                grows(&n.growth),
+                n.kind
+            ),
+        ));
+    }
+    if let Some(p) = &r.phase_error {
+        lines.push((
+            "phase error",
+            format!(
+                "psi1 max {}, psi2 max {} rad ({})",
+                e(p.psi1.max),
+                e(p.psi2.max),
+                grows(&p.growth)
+            ),
+        ));
+    }
+    if let Some(s) = &r.error_split {
+        lines.push((
+            "the error is",
+            format!(
+                "{} (at t = {}: along N {}, off N {})",
+                s.summary,
+                (s.t * 1e6).round() / 1e6,
+                e(s.along_n),
+                e(s.departure_from_n)
+            ),
+        ));
+    }
+    lines
 }

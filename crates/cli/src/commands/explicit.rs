@@ -14,7 +14,7 @@ use rsts_dynamics::scalar::{bits_for_digits, F64_BITS};
 use rsts_dynamics::vec3::Vec3;
 use rsts_dynamics::Real;
 
-use crate::args::{count, finite_f64, MAX_SAMPLES};
+use crate::args::{count, finite_f64, ExactFieldArgs, MAX_SAMPLES};
 use crate::output::{self, Cell, Format, Tabular};
 
 /// Shown at the end of `rsts explicit --help`.
@@ -37,22 +37,8 @@ pub const MAX_DIGITS: u32 = 100_000;
 /// Options of `rsts explicit`.
 #[derive(Debug, Clone, ClapArgs)]
 pub struct Args {
-    /// Strength a of the first field; a > b > 0 (read as an exact decimal at the requested digits)
-    #[arg(
-        long,
-        value_name = "A",
-        default_value = "1",
-        allow_hyphen_values = true
-    )]
-    pub a: String,
-    /// Strength b of the second field; 0 < b < a
-    #[arg(
-        long,
-        value_name = "B",
-        default_value = "0.5",
-        allow_hyphen_values = true
-    )]
-    pub b: String,
+    #[command(flatten)]
+    pub fields: ExactFieldArgs,
     /// Value m of the partial integral M of N
     #[arg(
         long,
@@ -166,8 +152,8 @@ fn run_in<T: Scalar>(
         );
     }
     let [a, b, m, h] = [
-        ("a", &args.a),
-        ("b", &args.b),
+        ("a", &args.fields.a),
+        ("b", &args.fields.b),
         ("m", &args.m),
         ("h", &args.h),
     ]

@@ -5,6 +5,7 @@ pub mod check;
 pub mod compare;
 pub mod diagram;
 pub mod explicit;
+pub mod identify;
 pub mod inspect;
 pub mod integrate;
 pub mod reference;

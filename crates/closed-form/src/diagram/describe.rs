@@ -9,6 +9,7 @@ use serde::{Serialize, Serializer};
 use crate::camera::Camera;
 use crate::constants::IntegralConstants;
 use crate::error::ClosedFormError;
+use crate::manifold::normal::{normal_type, NormalType};
 use crate::motion::{ExplicitMotion, TorusChoice};
 use crate::roots::RootLabel;
 use crate::separated::{Radicand, SeparatedVariable};
@@ -95,6 +96,18 @@ pub struct PointDescription {
     pub s2: VariableDescription,
     /// ν₁/ν₂.
     pub rotation_number: f64,
+    /// The normal type of N at this level (issue 11): λ² = −4r⁴mℓ², elliptic for m > 0,
+    /// hyperbolic for m < 0 (a departure from N grows exponentially).
+    pub normal: NormalDescription,
+}
+
+/// The normal type of N at a point (m, h).
+#[derive(Clone, Debug, Serialize)]
+pub struct NormalDescription {
+    #[serde(rename = "type")]
+    pub kind: NormalType,
+    /// λ² = −4r⁴mℓ² of the field of K − 2mL across N.
+    pub lambda2: f64,
 }
 
 fn radical_descriptions(
@@ -205,6 +218,13 @@ pub fn describe_point(a: f64, b: f64, m: f64, h: f64) -> Result<PointDescription
         s1,
         s2,
         rotation_number: motion.rotation_number(),
+        normal: {
+            let n = normal_type(c);
+            NormalDescription {
+                kind: n.kind,
+                lambda2: n.lambda2,
+            }
+        },
     })
 }
 
@@ -284,6 +304,17 @@ impl fmt::Display for PointDescription {
             num(self.s1.coordinate_segment[0]),
             num(self.s1.coordinate_segment[1]),
             num(self.rotation_number)
+        )?;
+        let meaning = match self.normal.kind {
+            NormalType::Elliptic => "a motion started near N stays near it",
+            NormalType::Hyperbolic => "a departure from N (round-off included) grows exponentially",
+            NormalType::Degenerate => "degenerate (m = 0 or ℓ = 0)",
+        };
+        writeln!(
+            f,
+            "  N is normally {} here (λ² = −4r⁴mℓ² = {}): {meaning}",
+            self.normal.kind,
+            num(self.normal.lambda2)
         )
     }
 }

@@ -35,7 +35,8 @@ use crate::constants::SigmaCurve;
 use crate::error::ClosedFormError;
 
 pub use describe::{
-    describe_point, PointDescription, RadicalDescription, SegmentEnd, VariableDescription,
+    describe_point, NormalDescription, PointDescription, RadicalDescription, SegmentEnd,
+    VariableDescription,
 };
 
 use draw::{camera_colour, draw_axes, draw_labels, draw_plot, fmt_px, xml_escape};
@@ -61,7 +62,7 @@ fn check_fields(a: f64, b: f64) -> Result<(), ClosedFormError> {
 }
 
 /// "1 torus", "n tori" (in the picture's labels and in a point's description).
-fn tori_text(n: usize) -> String {
+pub fn tori_text(n: usize) -> String {
     if n == 1 {
         "1 torus".to_string()
     } else {

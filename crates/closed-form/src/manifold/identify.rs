@@ -33,7 +33,7 @@ use crate::formulas::{explicit_state, SeparatedCoordinates};
 use crate::manifold::distance::{distance, DistanceFromN};
 use crate::manifold::relations::m_of_integrals;
 use crate::manifold::torus_map::{
-    formula_constants, gauss_newton_step, max_gap, phase_vector, TorusMap,
+    formula_constants, gauss_newton_step, max_gap, phase_vector, seeded, TorusMap,
 };
 use crate::motion::{ExplicitMotion, TorusChoice};
 use crate::scalar::Scalar;
@@ -301,7 +301,7 @@ struct Nearest<T> {
     residual: T,
 }
 
-/// ∂(state)/∂m or ∂/∂h at fixed angles: the closed form built over dual numbers.
+/// ∂(state)/∂m or ∂/∂h at fixed angles.
 fn derivative_in<T: Real>(
     a: &T,
     b: &T,
@@ -309,27 +309,8 @@ fn derivative_in<T: Real>(
     torus: usize,
     seed_m: bool,
 ) -> Option<[T; DIM]> {
-    let one = a.one_like();
-    let zero = a.zero_like();
-    let (dm, dh) = if seed_m {
-        (one, zero.clone())
-    } else {
-        (zero.clone(), one)
-    };
-    let motion = ExplicitMotion::<Dual<T>>::build(
-        Dual::constant(a.clone()),
-        Dual::constant(b.clone()),
-        Dual::new(p.m.clone(), dm),
-        Dual::new(p.h.clone(), dh),
-        TorusChoice {
-            torus,
-            phase1: 0.0,
-            phase2: 0.0,
-        },
-    )
-    .ok()?;
-    let psi = p.phases.clone().map(Dual::constant);
-    let x = TorusMap::of_motion(&motion).state_at(&psi);
+    let map = seeded([a, b, &p.m, &p.h], torus, seed_m).ok()?;
+    let x = map.state_at(&p.phases.clone().map(Dual::constant));
     Some(std::array::from_fn(|k| x[k].eps.clone()))
 }
 

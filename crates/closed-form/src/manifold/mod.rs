@@ -6,11 +6,13 @@
 pub mod distance;
 pub mod identify;
 pub mod normal;
+pub mod project;
 pub mod relations;
 pub mod torus_map;
 
 pub use distance::{distance, DistanceFromN};
 pub use identify::{identify, Identified, IdentifyError};
 pub use normal::{normal_type, Normal, NormalType};
+pub use project::{Projection, Projector};
 pub use relations::{m_of_integrals, Relations};
 pub use torus_map::TorusMap;

@@ -20,13 +20,13 @@ use std::fmt;
 use rsts_dynamics::dual::Dual;
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::{Fields, Real, State};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::constants::IntegralConstants;
 use crate::manifold::distance::{gradient, hamiltonian_field, Kowalevski, LevelL};
 
 /// Elliptic (normally stable), hyperbolic (normally unstable) or degenerate.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum NormalType {
     Elliptic,

@@ -6,8 +6,9 @@ use rsts_dynamics::state::DIM;
 use rsts_dynamics::Real;
 
 use crate::constants::IntegralConstants;
+use crate::error::ClosedFormError;
 use crate::formulas::{explicit_state, ExplicitState, FormulaConstants, SeparatedCoordinates};
-use crate::motion::ExplicitMotion;
+use crate::motion::{ExplicitMotion, TorusChoice};
 use crate::separated::{SeparatedPoint, SeparatedVariable};
 
 /// A torus of N as a map (ψ₁, ψ₂) → state, with its derivative.
@@ -151,7 +152,7 @@ impl<T: Real> TorusMap<T> {
 }
 
 /// x reduced to [0, period).
-fn wrap<T: Real>(x: T, period: &T) -> T {
+pub(crate) fn wrap<T: Real>(x: T, period: &T) -> T {
     let n = (x.clone() / period).floor();
     let y = x - n * period;
     if y >= *period || y < y.zero_like() {
@@ -234,4 +235,31 @@ fn solve<T: Real, const N: usize>(mut a: [[T; N]; N], mut y: [T; N]) -> Option<[
         x[row] = v / &a[row][row];
     }
     Some(x)
+}
+
+/// The torus `torus` of (m, h) built over dual numbers with m (`seed_m`) or h seeded: its points'
+/// dual parts are ∂(state)/∂m or ∂(state)/∂h at fixed angles.
+pub(crate) fn seeded<T: Real>(
+    [a, b, m, h]: [&T; 4],
+    torus: usize,
+    seed_m: bool,
+) -> Result<TorusMap<Dual<T>>, ClosedFormError> {
+    let (one, zero) = (a.one_like(), a.zero_like());
+    let (dm, dh) = if seed_m {
+        (one, zero.clone())
+    } else {
+        (zero.clone(), one)
+    };
+    let motion = ExplicitMotion::<Dual<T>>::build(
+        Dual::constant(a.clone()),
+        Dual::constant(b.clone()),
+        Dual::new(m.clone(), dm),
+        Dual::new(h.clone(), dh),
+        TorusChoice {
+            torus,
+            phase1: 0.0,
+            phase2: 0.0,
+        },
+    )?;
+    Ok(TorusMap::of_motion(&motion))
 }

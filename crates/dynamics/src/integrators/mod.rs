@@ -14,7 +14,10 @@ mod taylor;
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use rk4::Rk4;
-pub use taylor::{Taylor, MAX_ORDER as TAYLOR_MAX_ORDER};
+pub use taylor::{
+    MpfrKernel, MpfrKernelChoice, SimdPath, Taylor, LANE_EXTRA_BITS, MAX_ORDER as TAYLOR_MAX_ORDER,
+    MPFR_MAX_DEFAULT_LIMBS, SIMD_ENV,
+};
 
 use std::fmt;
 use std::str::FromStr;
@@ -275,6 +278,17 @@ impl MethodConfig {
         self.method.working_bits(self.mp_digits())
     }
 
+    /// The smallest tolerance this config accepts: the unit round-off 2^-bits of its scalar,
+    /// 2^-(bits + 8) for taylor-f64 and taylor-dd, whose compensated state carries one f64 more
+    /// ([`taylor::LANE_EXTRA_BITS`]).
+    pub fn min_tolerance(&self) -> f64 {
+        let extra = match self.method {
+            MethodName::TaylorF64 | MethodName::TaylorDd => taylor::LANE_EXTRA_BITS,
+            _ => 0,
+        };
+        2f64.powi(-((self.working_bits() + extra).min(1000) as i32))
+    }
+
     /// Run the configured method from a high-precision problem and return high-precision states
     /// (at the precision of `problem.initial`). The problem is rounded to the method's scalar
     /// (f64, double-double, MPFR at the configured digits) and the states are widened exactly
@@ -287,14 +301,17 @@ impl MethodConfig {
         let out_bits = problem.initial.omega[0].prec();
         let widen = |x: &f64| Float::with_val(out_bits, *x);
         match self.method {
-            MethodName::Rk4 | MethodName::Dopri5 | MethodName::Dop853 | MethodName::TaylorF64 => {
+            MethodName::Rk4 | MethodName::Dopri5 | MethodName::Dop853 => {
                 let p = map_problem(problem, Float::to_f64);
                 Ok(map_solution(self.propagate_f64(&p, grid)?, widen))
             }
+            // The start state and the fields enter with their low parts; the compensated
+            // states come back whole.
+            MethodName::TaylorF64 => {
+                Taylor::new(self.tolerances).propagate_float(false, problem, grid)
+            }
             MethodName::TaylorDd => {
-                let p = map_problem(problem, DoubleDouble::from_float);
-                let sol = Taylor::new(self.tolerances).propagate_grid(&p, grid)?;
-                Ok(map_solution(sol, |x| x.to_float(out_bits)))
+                Taylor::new(self.tolerances).propagate_float(true, problem, grid)
             }
             MethodName::TaylorMp => {
                 let bits = self.working_bits();

@@ -79,6 +79,10 @@ pub trait Real:
     fn abs(&self) -> Self;
     fn sin(&self) -> Self;
     fn cos(&self) -> Self;
+    /// (sin, cos) together (one call in MPFR, which shares the argument reduction).
+    fn sin_cos(&self) -> (Self, Self) {
+        (self.sin(), self.cos())
+    }
     fn atan2(&self, x: &Self) -> Self;
     fn exp(&self) -> Self;
     fn ln(&self) -> Self;
@@ -97,6 +101,12 @@ pub trait Real:
     /// `self * self`.
     fn square(&self) -> Self {
         self.clone() * self
+    }
+    /// `self /= d` for a small integer d (the Taylor recursion's 1/(n + 1)): exactly rounded
+    /// like the division by d as a scalar, without making one (MPFR: `mpfr_div_ui`).
+    fn div_small(&mut self, d: u32) {
+        let d = self.lit(f64::from(d));
+        *self /= &d;
     }
     /// `self += a·b`, with no clone of `a` (the Taylor coefficients' inner loop).
     fn mul_add_assign(&mut self, a: &Self, b: &Self) {
@@ -163,6 +173,9 @@ impl Real for f64 {
     fn floor(&self) -> Self {
         f64::floor(*self)
     }
+    fn div_small(&mut self, d: u32) {
+        *self /= f64::from(d);
+    }
     fn is_finite(&self) -> bool {
         f64::is_finite(*self)
     }
@@ -208,6 +221,9 @@ impl Real for Float {
     fn cos(&self) -> Self {
         self.clone().cos()
     }
+    fn sin_cos(&self) -> (Self, Self) {
+        self.clone().sin_cos(Float::new(self.prec()))
+    }
     fn atan2(&self, x: &Self) -> Self {
         self.clone().atan2(x)
     }
@@ -222,6 +238,9 @@ impl Real for Float {
     }
     fn is_finite(&self) -> bool {
         Float::is_finite(self)
+    }
+    fn div_small(&mut self, d: u32) {
+        *self /= d;
     }
     fn mul_add_assign(&mut self, a: &Self, b: &Self) {
         // Product rounded to the working precision, then a same-precision sum: about twice as

@@ -1,0 +1,190 @@
+//! The nearest point of N to a state near a known motion, cheaply enough for every sample of a
+//! run (issue 11: the error of an integrated motion split into drift along N and departure from
+//! it).
+//!
+//! Near the torus (m, h) of the exact motion, N is parametrised by (ψ₁, ψ₂, m + δm, h + δh) and,
+//! to first order in (δm, δh),
+//!
+//! ```text
+//!   C(ψ, m + δm, h + δh) ≈ C(ψ) + ∂C/∂m(ψ)·δm + ∂C/∂h(ψ)·δh
+//! ```
+//!
+//! with the derivatives from the closed form built once over dual numbers. Gauss–Newton over
+//! (ψ₁, ψ₂, δm, δh) from a guess of the angles (the exact ones) gives the nearest point: its
+//! angles (the phases of the state on its own torus), its (δm, δh) (the drift of the on-N
+//! integrals) and the departure |state − nearest point| from N, in the units of the state. The
+//! first-order model is exact to O(δm², δh²): an integrator's drift of the integrals (≤ 1e-6 in
+//! practice) makes it negligible.
+//!
+//! Only C(ψ) is evaluated in the working precision: the derivatives (the Jacobian of the
+//! Gauss–Newton steps, and ∂C/∂m, ∂C/∂h, which multiply the small δm, δh) are evaluated in f64,
+//! so each step gains the 16 digits of f64 and the solution is that of the exact equations; a
+//! first pass runs wholly in f64. At 30 digits this costs a few evaluations of the closed form
+//! per state.
+
+use rsts_dynamics::dual::Dual;
+use rsts_dynamics::state::DIM;
+use rsts_dynamics::Real;
+
+use crate::error::ClosedFormError;
+use crate::manifold::torus_map::{gauss_newton_step, max_gap, seeded, wrap, TorusMap};
+use crate::motion::{ExplicitMotion, TorusChoice};
+
+/// The torus of a motion with the derivatives of its points in ψ, m and h (f64).
+#[derive(Clone, Debug)]
+pub struct Projector<T> {
+    /// C(ψ) in the working precision.
+    exact: TorusMap<T>,
+    /// The same torus in f64, and built over dual numbers with m or h seeded.
+    map: TorusMap<f64>,
+    in_m: TorusMap<Dual<f64>>,
+    in_h: TorusMap<Dual<f64>>,
+}
+
+/// The nearest point of N to a state.
+#[derive(Clone, Debug)]
+pub struct Projection<T> {
+    /// Its angles (ψ₁, ψ₂) ∈ [0, 2π)².
+    pub phases: [T; 2],
+    /// Its (m, h) minus the motion's.
+    pub dm: T,
+    pub dh: T,
+    /// The point (ω, α, β).
+    pub point: [T; DIM],
+    /// max over the components of |state − point|: the departure from N.
+    pub departure: T,
+}
+
+/// (ψ, δm, δh) during the iteration.
+struct Unknowns<T> {
+    psi: [T; 2],
+    dm: T,
+    dh: T,
+}
+
+/// Derivatives at one point, in f64: ∂C/∂ψ₁, ∂C/∂ψ₂, ∂C/∂m, ∂C/∂h, and C(ψ) itself.
+struct Derivatives {
+    value: [f64; DIM],
+    columns: [[f64; DIM]; 4],
+}
+
+impl<T: Real> Projector<T> {
+    /// The projector for the torus of `motion`.
+    pub fn new(motion: &ExplicitMotion<T>) -> Result<Self, ClosedFormError> {
+        let c = &motion.constants;
+        let [a, b, m, h] = [&c.a, &c.b, &c.m, &c.h].map(|x| x.to_f64());
+        let torus = motion.choice.torus;
+        let choice = TorusChoice {
+            torus,
+            phase1: 0.0,
+            phase2: 0.0,
+        };
+        let lo = ExplicitMotion::new(a, b, m, h, choice)?;
+        Ok(Self {
+            exact: TorusMap::of_motion(motion),
+            map: TorusMap::of_motion(&lo),
+            in_m: seeded([&a, &b, &m, &h], torus, true)?,
+            in_h: seeded([&a, &b, &m, &h], torus, false)?,
+        })
+    }
+
+    fn derivatives(&self, psi: &[f64; 2]) -> Derivatives {
+        let (value, jac) = self.map.state_and_jacobian(psi);
+        let dual_psi = psi.map(Dual::constant);
+        let jm = self.in_m.state_at(&dual_psi).map(|d| d.eps);
+        let jh = self.in_h.state_at(&dual_psi).map(|d| d.eps);
+        Derivatives {
+            value,
+            columns: [jac[0], jac[1], jm, jh],
+        }
+    }
+
+    /// C(ψ) + ∂C/∂m·δm + ∂C/∂h·δh with the derivatives `d`.
+    fn point(&self, x: &Unknowns<T>, base: [T; DIM], d: &Derivatives) -> [T; DIM] {
+        let lit = |v: f64| x.dm.lit(v);
+        std::array::from_fn(|k| {
+            base[k].clone() + lit(d.columns[2][k]) * &x.dm + lit(d.columns[3][k]) * &x.dh
+        })
+    }
+
+    /// The nearest point of N to `target`, from the angles `guess`. `None` when the Gauss–Newton
+    /// system is singular (a state far from the torus).
+    pub fn project(&self, target: &[T; DIM], guess: &[T; 2]) -> Option<Projection<T>> {
+        let high = target[0].prec() > 53;
+        // First pass in f64.
+        let target64 = target.clone().map(|x| x.to_f64());
+        let mut x64 = Unknowns {
+            psi: guess.clone().map(|p| p.to_f64()),
+            dm: 0.0,
+            dh: 0.0,
+        };
+        let mut last = None;
+        let mut previous = f64::INFINITY;
+        for _ in 0..16 {
+            let d = self.derivatives(&x64.psi);
+            let point: [f64; DIM] = std::array::from_fn(|k| {
+                d.value[k] + d.columns[2][k] * x64.dm + d.columns[3][k] * x64.dh
+            });
+            let r: [f64; DIM] = std::array::from_fn(|k| point[k] - target64[k]);
+            let step = gauss_newton_step(d.columns.each_ref(), &r)?;
+            let size = step[0].abs().max(step[1].abs());
+            x64.psi = [x64.psi[0] + step[0], x64.psi[1] + step[1]];
+            x64.dm += step[2];
+            x64.dh += step[3];
+            last = Some(d);
+            // Converged, or stalled at the round-off of the evaluation.
+            if size <= 64.0 * f64::EPSILON || size > 0.5 * previous {
+                break;
+            }
+            previous = size;
+        }
+        let lift = |v: f64| target[0].lit(v);
+        let mut x = Unknowns {
+            psi: x64.psi.map(lift),
+            dm: lift(x64.dm),
+            dh: lift(x64.dh),
+        };
+        let eps = target[0].epsilon().to_f64();
+        let mut d = if high {
+            self.derivatives(&x64.psi)
+        } else {
+            last?
+        };
+        let mut point = self.point(&x, self.exact.state_at(&x.psi), &d);
+        // Then in the working precision: each step with f64 derivatives gains ~16 digits.
+        if high {
+            let mut previous = f64::INFINITY;
+            for _ in 0..12 {
+                let r: [f64; DIM] =
+                    std::array::from_fn(|k| (point[k].clone() - &target[k]).to_f64());
+                let step = gauss_newton_step(d.columns.each_ref(), &r)?;
+                let size = step[0].abs().max(step[1].abs());
+                x.psi = [
+                    x.psi[0].clone() + lift(step[0]),
+                    x.psi[1].clone() + lift(step[1]),
+                ];
+                x.dm += lift(step[2]);
+                x.dh += lift(step[3]);
+                d = self.derivatives(&x.psi.clone().map(|p| p.to_f64()));
+                point = self.point(&x, self.exact.state_at(&x.psi), &d);
+                // The next step would be this one times the contraction of the iteration (the
+                // f64 derivatives' 1e-16, the first-order model's δm, δh): stop when that is
+                // below the precision, or when the steps stall at the round-off.
+                let contraction =
+                    1e-14 + 10.0 * (step[2].abs() + step[3].abs() + x64.dm.abs() + x64.dh.abs());
+                if size * contraction <= 256.0 * eps || size > 0.5 * previous {
+                    break;
+                }
+                previous = size;
+            }
+        }
+        let two_pi = T::pi(target[0].prec()) * target[0].lit(2.0);
+        Some(Projection {
+            phases: x.psi.map(|p| wrap(p, &two_pi)),
+            departure: max_gap(&point, target),
+            point,
+            dm: x.dm,
+            dh: x.dh,
+        })
+    }
+}

@@ -1,0 +1,563 @@
+//! The stepper of taylor-f64 and taylor-dd on the lane kernel ([`LaneSeries`]), with the
+//! compensated state in K = P + 1 parts (P: the kernel's parts, 1 for f64, 2 for
+//! double-double), generic over the code path and instantiated per path under
+//! `#[target_feature]` ([`run_on`]).
+//!
+//! One step, from the state s (K parts, lane form) at time t:
+//!
+//! 1. x₁ = f(s), x₂ = f(x)₁/2 in K parts: the same kernel in K-part arithmetic for orders 0
+//!    and 1, from s itself (its low part and the low parts of a, b included);
+//! 2. x₃ … xₚ in P parts: the kernel from rows 0, 1, 2 = s, x₁, x₂ rounded to P parts;
+//! 3. the Jorba–Zou step h from ‖xₚ₋₁‖, ‖xₚ‖, rounded down to a multiple of a power of two g
+//!    chosen so that every time t stays an exact f64 (so t_grid − t is exact);
+//! 4. samples at the grid times inside the step, and the update, both as
+//!    s + x₁τ + x₂τ² (K parts, exact products of τ's two parts) + Σ_{k≥3} xₖτᵏ (Horner in P
+//!    parts), renormalised: an error-free compensated update.
+
+// Index loops on purpose: this code is inlined into `#[target_feature]` functions, and plain
+// loops over constant ranges unroll there without any closure (a function of its own,
+// compiled without the path's features).
+#![allow(clippy::needless_range_loop)]
+
+use std::any::Any;
+use std::time::Instant;
+
+use rug::Float;
+
+use crate::equations::{Component, Param, VectorField};
+use crate::error::DynamicsError;
+use crate::integrators::{OutputGrid, Problem, Solution, Stats, Tolerances};
+use crate::scalar::{double_double::DD_BITS, DoubleDouble, Real, F64_BITS};
+use crate::state::{State, DIM};
+
+use super::expansion::{mul, two_sum, Acc, Lanes, Scalar};
+use super::layout::{Layout, ROWS};
+use super::series::{
+    from_lanes, load_block, splat, store_block, to_lanes, LaneSeries, NCoef, Row16,
+    SlotCoefficients,
+};
+use super::simd::{portable::Portable, Isa, Row8, SimdPath};
+use super::{generic, Taylor, MAX_STEPS};
+
+/// A run's input in K parts: the initial state (natural order) and the fields.
+#[derive(Clone, Debug)]
+pub(crate) struct FastInput<const K: usize> {
+    pub x0: [[f64; K]; DIM],
+    pub a: [f64; K],
+    pub b: [f64; K],
+}
+
+/// A run's output: the states at the grid times in K parts (natural order).
+#[derive(Clone, Debug)]
+pub(crate) struct FastOutput<const K: usize> {
+    pub times: Vec<f64>,
+    pub states: Vec<[[f64; K]; DIM]>,
+    pub stats: Stats,
+}
+
+/// The settings of a run.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FastSettings<'a> {
+    pub name: &'static str,
+    pub order: usize,
+    pub tolerances: Tolerances,
+    pub grid: &'a OutputGrid,
+    /// Coefficients x₁ … x_ext computed in K parts (≤ [`MAX_EXT`]).
+    pub ext: usize,
+}
+
+/// c·param in K parts.
+unsafe fn coefficient<I: Isa, const K: usize>(
+    input: &FastInput<K>,
+    c: f64,
+    param: Param,
+) -> [f64; K] {
+    let mut cc = [0.0; K];
+    cc[0] = c;
+    match param {
+        Param::One => cc,
+        Param::A => mul::<Scalar<I>, K>(&cc, &input.a),
+        Param::B => mul::<Scalar<I>, K>(&cc, &input.b),
+    }
+}
+
+/// The slot coefficients of `layout` for the fields of `input`, in K parts.
+pub(super) unsafe fn slot_coefficients<I: Isa, const K: usize>(
+    layout: &Layout,
+    input: &FastInput<K>,
+) -> SlotCoefficients<K> {
+    let mut left = [[Row8::default(); K]; ROWS];
+    for (r, row) in layout.slots.iter().enumerate() {
+        for (lane, slot) in row.iter().enumerate() {
+            if slot.left.is_some() {
+                let c = coefficient::<I, K>(input, slot.c, slot.param);
+                for (i, p) in c.iter().enumerate() {
+                    left[r][i].0[lane] = *p;
+                }
+            }
+        }
+    }
+    let n = layout
+        .n_terms
+        .iter()
+        .map(|t| NCoef {
+            n: t.n,
+            coef: coefficient::<I, K>(input, t.c, t.param),
+            pos: layout.pos[t.i],
+        })
+        .collect();
+    SlotCoefficients { left, n }
+}
+
+/// The time granularity g = 2^(E − 52), 2^(E−1) > t_end: every multiple of g up to 2^E is an
+/// f64, so t (a sum of steps that are multiples of g) is exact.
+fn granularity(t_end: f64) -> f64 {
+    let e = t_end.max(1.0).log2().floor() as i32 + 2;
+    2f64.powi(e - 52)
+}
+
+/// Most coefficients computed in K parts.
+pub(crate) const MAX_EXT: usize = 3;
+
+/// s + Σ_{k=1..e} xₖτᵏ (K parts, exact products with τ's two parts) + τ^(e+1)·Σ_{k>e} xₖτ^(k−e−1)
+/// (Horner in P parts), lane form; τ = τ₀ + τ₁ exactly, e = `ext` (≤ [`MAX_EXT`]) extended
+/// coefficients.
+#[inline(always)]
+unsafe fn evaluate<I: Isa, const P: usize, const K: usize>(
+    main: &LaneSeries<I, P>,
+    ext: &LaneSeries<I, K>,
+    state: &[Row16; K],
+    tau: [f64; 2],
+    order: usize,
+    e: usize,
+) -> [Row16; K] {
+    type S<I> = Scalar<I>;
+    // τ, τ², …, τ^(e+1) in K parts.
+    let mut pow = [[0.0; K]; MAX_EXT + 1];
+    pow[0][0] = tau[0];
+    pow[0][1] = tau[1];
+    for k in 1..=e {
+        pow[k] = mul::<S<I>, K>(&pow[k - 1], &pow[0]);
+    }
+    let tail = if order > e {
+        let mut tp = [0.0; P];
+        let mut tq = [0.0; P];
+        tp.copy_from_slice(&pow[0][..P]);
+        tq.copy_from_slice(&pow[e][..P]);
+        let (q, n) = main.horner(e + 1, &tp);
+        let tq = splat::<I, P>(&tq);
+        Some((mul::<Lanes<I>, P>(&q, &tq), mul::<Lanes<I>, P>(&n, &tq)))
+    } else {
+        None
+    };
+    let mut out = [Row16::default(); K];
+    for block in [false, true] {
+        let mut acc = Acc::<Lanes<I>, K>::from(load_block::<I, K>(state, block));
+        for k in 1..=e {
+            acc.add_prod(
+                &load_block::<I, K>(&ext.x[k], block),
+                &splat::<I, K>(&pow[k - 1]),
+            );
+        }
+        if let Some((q, n)) = &tail {
+            let s = if block { n } else { q };
+            let mut w = [I::zero(); K];
+            w[..P].copy_from_slice(&s[..P]);
+            acc.add_exp(&w);
+        }
+        store_block::<I, K>(&acc.value(), &mut out, block);
+    }
+    out
+}
+
+/// The first P parts of K.
+#[inline(always)]
+fn trunc<const K: usize, const P: usize>(x: &[Row16; K]) -> [Row16; P] {
+    let mut out = [Row16::default(); P];
+    out.copy_from_slice(&x[..P]);
+    out
+}
+
+/// The stepping loop on path `I` (see the module documentation). P + 1 = K.
+#[inline(always)]
+unsafe fn run<I: Isa, const P: usize, const K: usize>(
+    layout: &Layout,
+    input: &FastInput<K>,
+    settings: FastSettings,
+) -> Result<FastOutput<K>, DynamicsError> {
+    debug_assert_eq!(P + 1, K);
+    let FastSettings {
+        name,
+        order,
+        tolerances,
+        grid,
+        ..
+    } = settings;
+    let Tolerances { rtol, atol } = tolerances;
+    let coef = slot_coefficients::<I, K>(layout, input);
+    // The extended coefficients x₁ … x_e (and the main kernel's rows 0 … e − 1, copied).
+    let e = settings.ext.min(order).min(MAX_EXT);
+    let mut ext = LaneSeries::<I, K>::new(layout, &coef, e, false);
+    let mut main = LaneSeries::<I, P>::new(layout, &coef.truncate::<P>(), order, true);
+    let safety = (-0.7 / (order as f64 - 1.0)).exp() / std::f64::consts::E.powi(2);
+    let g = granularity(grid.t_end);
+
+    let start = Instant::now();
+    let mut state = to_lanes(layout, &input.x0);
+    let mut t = 0.0f64;
+    let mut stats = Stats::default();
+    let mut times = Vec::with_capacity(grid.samples);
+    let mut states = Vec::with_capacity(grid.samples);
+    let mut next = 0;
+    while next < grid.samples {
+        if stats.accepted_steps >= MAX_STEPS {
+            return Err(DynamicsError::Integration(format!(
+                "{name}: more than {MAX_STEPS} steps before t = {}",
+                grid.time(next)
+            )));
+        }
+        // x₁ … x_e in K parts, then x_(e+1) … xₚ in P parts.
+        if e == 0 {
+            main.set(0, &trunc(&state));
+            main.advance(0, order);
+        } else {
+            ext.set(0, &state);
+            ext.advance(0, e);
+            for m in 0..e {
+                main.copy_from(m, &ext);
+            }
+            if order > e {
+                main.set(e, &trunc(&ext.x[e]));
+                main.advance(e, order);
+            } else {
+                main.x[e] = trunc(&ext.x[e]);
+            }
+        }
+        stats.accepted_steps += 1;
+        stats.rhs_evals += order as u64 + 1;
+
+        // Jorba–Zou step, rounded down to a multiple of g.
+        let x_norm = I::max_abs(I::load(&state[0].q)).max(I::max_abs(I::load(&state[0].n)));
+        let ln_x = if rtol * x_norm > atol {
+            x_norm.ln()
+        } else {
+            0.0
+        };
+        let (n1, n2) = (main.norm(order - 1), main.norm(order));
+        // min(ρ_{p−1}, ρ_p) with one exp (exp is monotonic: the same value).
+        let e1 = (ln_x - n1.ln()) / (order - 1) as f64;
+        let e2 = (ln_x - n2.ln()) / order as f64;
+        let rho = e1.min(e2).exp();
+        let mut h = rho * safety;
+        if !h.is_finite() {
+            // All coefficients vanish (an equilibrium): one step to the end.
+            h = (grid.t_end - t).max(g);
+        }
+        h = (h / g).floor() * g;
+        if h.is_nan() || h <= 1e-15 * t.abs() || h <= 0.0 {
+            return Err(DynamicsError::Integration(format!(
+                "{name}: step size {h:e} too small at t = {t} (singular solution?)"
+            )));
+        }
+
+        // Dense output at the grid times inside [t, t + h].
+        let t_step_end = t + h;
+        while next < grid.samples && grid.time(next) <= t_step_end {
+            let tg = grid.time(next);
+            let (tau, tau_lo) = two_sum::<Scalar<I>>(tg, -t);
+            let x = from_lanes(
+                layout,
+                &evaluate::<I, P, K>(&main, &ext, &state, [tau, tau_lo], order, e),
+            );
+            if x.iter().any(|c| !c[0].is_finite()) {
+                return Err(DynamicsError::Integration(format!(
+                    "{name}: solution not finite at t = {tg}"
+                )));
+            }
+            times.push(tg);
+            states.push(x);
+            next += 1;
+        }
+        if next == grid.samples {
+            break;
+        }
+        state = evaluate::<I, P, K>(&main, &ext, &state, [h, 0.0], order, e);
+        t += h;
+    }
+    stats.integration_seconds = start.elapsed().as_secs_f64();
+    Ok(FastOutput {
+        times,
+        states,
+        stats,
+    })
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2,fma")]
+unsafe fn run_avx512<const P: usize, const K: usize>(
+    layout: &Layout,
+    input: &FastInput<K>,
+    settings: FastSettings,
+) -> Result<FastOutput<K>, DynamicsError> {
+    run::<super::simd::avx512::Avx512, P, K>(layout, input, settings)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn run_avx2<const P: usize, const K: usize>(
+    layout: &Layout,
+    input: &FastInput<K>,
+    settings: FastSettings,
+) -> Result<FastOutput<K>, DynamicsError> {
+    run::<super::simd::avx2::Avx2, P, K>(layout, input, settings)
+}
+
+fn run_portable<const P: usize, const K: usize>(
+    layout: &Layout,
+    input: &FastInput<K>,
+    settings: FastSettings,
+) -> Result<FastOutput<K>, DynamicsError> {
+    // SAFETY: the portable path uses no instruction beyond the build's target.
+    unsafe { run::<Portable, P, K>(layout, input, settings) }
+}
+
+/// Run the lane kernel on `path` (which must be available: [`SimdPath::available`]).
+pub(crate) fn run_on<const P: usize, const K: usize>(
+    path: SimdPath,
+    layout: &Layout,
+    input: &FastInput<K>,
+    settings: FastSettings,
+) -> Result<FastOutput<K>, DynamicsError> {
+    if !path.available() {
+        return Err(DynamicsError::Settings(format!(
+            "the {path} code path is not available on this CPU"
+        )));
+    }
+    match path {
+        // SAFETY: the CPU has the path's features (checked above).
+        #[cfg(target_arch = "x86_64")]
+        SimdPath::Avx512 => unsafe { run_avx512::<P, K>(layout, input, settings) },
+        #[cfg(target_arch = "x86_64")]
+        SimdPath::Avx2 => unsafe { run_avx2::<P, K>(layout, input, settings) },
+        _ => run_portable::<P, K>(layout, input, settings),
+    }
+}
+
+impl Taylor {
+    /// The code path this run uses: the forced one, else `RSTS_SIMD`, else the best available.
+    pub fn simd_path(&self) -> Result<SimdPath, DynamicsError> {
+        match self.simd {
+            Some(p) if p.available() => Ok(p),
+            Some(p) => Err(DynamicsError::Settings(format!(
+                "the {p} code path is not available on this CPU"
+            ))),
+            None => SimdPath::from_env(),
+        }
+    }
+}
+
+/// Bits beyond the kernel scalar's that the compensated lane kernels deliver: the state and
+/// x₁ … x_e carry one part more than the scalar, so what is rounded per step is
+/// x_{e+1}τ^(e+1) and the tail, ~2⁻⁸ of the state or less; tolerances down to
+/// 2^−(bits + 8) (f64: 4.3e-19, double-double: 4.8e-35) still lower the error (measured in
+/// docs/taylor.md).
+pub const LANE_EXTRA_BITS: u32 = 8;
+
+/// Tolerances at least this many units of the kernel scalar's round-off run without extended
+/// coefficients: the error there is the truncation's (≥ 10× the round-off of the plain
+/// kernel, measured in docs/taylor.md), so the extra precision would buy nothing.
+pub(crate) const PLAIN_ABOVE_ULPS: f64 = 512.0;
+
+/// How many coefficients the kernel of P parts computes in P + 1 parts at tolerance `eps`:
+/// none when `eps` ≥ [`PLAIN_ABOVE_ULPS`] units of its round-off; else x₁, x₂ for f64 (the
+/// leading terms of the update: its floor drops ~10× from plain f64) and x₁, x₂, x₃ for
+/// double-double, whose floor is set by the rounding of x₃τ³ otherwise (measured in
+/// docs/taylor.md). The state and the update stay compensated (P + 1 parts) either way.
+fn ext_orders(p: usize, eps: f64) -> usize {
+    if eps >= PLAIN_ABOVE_ULPS * 2f64.powi(-53 * p as i32) {
+        0
+    } else if p == 1 {
+        2
+    } else {
+        3
+    }
+}
+
+/// `x` in K parts: successive roundings of the residual to f64 (exact when `x` has at most
+/// 53·K significant bits, e.g. a double-double for K ≥ 2).
+fn float_parts<const K: usize>(x: &Float) -> [f64; K] {
+    let mut rest = Float::with_val(x.prec().max(64), x);
+    std::array::from_fn(|_| {
+        let p = rest.to_f64();
+        if p.is_finite() {
+            rest -= p;
+        }
+        p
+    })
+}
+
+/// The sum of the parts at `bits` bits (exact when `bits` ≥ their span).
+fn parts_to_float<const K: usize>(x: &[f64; K], bits: u32) -> Float {
+    let mut f = Float::with_val(bits.max(64 * K as u32 + 64), x[0]);
+    for p in &x[1..] {
+        f += p;
+    }
+    Float::with_val(bits, f)
+}
+
+impl Taylor {
+    /// Run the lane kernel (P parts, state in K = P + 1) for `table`, if it applies: the
+    /// table has a [`Layout`] and the state is compensated. `bits`: the kernel scalar's bits
+    /// (for the tolerance check).
+    fn run_lanes<const P: usize, const K: usize>(
+        &self,
+        table: &[Component; DIM],
+        input: &FastInput<K>,
+        bits: u32,
+        name: &'static str,
+        grid: &OutputGrid,
+    ) -> Result<Option<FastOutput<K>>, DynamicsError> {
+        if !self.compensated {
+            return Ok(None);
+        }
+        let Some(layout) = Layout::from_table(table) else {
+            return Ok(None);
+        };
+        let grid = OutputGrid::new(grid.t_end, grid.samples)?;
+        let eps = self.effective_tolerance(bits + LANE_EXTRA_BITS)?;
+        let order = Self::order_for(eps);
+        if input.x0.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(DynamicsError::State(
+                "initial state has a component that is not a finite number".into(),
+            ));
+        }
+        let path = self.simd_path()?;
+        let settings = FastSettings {
+            name,
+            order,
+            tolerances: self.tolerances,
+            grid: &grid,
+            ext: ext_orders(P, eps),
+        };
+        run_on::<P, K>(path, &layout, input, settings).map(Some)
+    }
+
+    /// taylor-f64 and taylor-dd of [`Taylor::propagate_field`] on the lane kernel (`None`:
+    /// another scalar, or a table or setting the kernel does not take).
+    pub(super) fn propagate_lanes<T: Real>(
+        &self,
+        field: &VectorField<T>,
+        problem: &Problem<T>,
+        grid: &OutputGrid,
+    ) -> Result<Option<Solution<T>>, DynamicsError> {
+        let any: &dyn Any = problem;
+        let solution: Box<dyn Any> = if let Some(p) = any.downcast_ref::<Problem<f64>>() {
+            let input = FastInput::<2> {
+                x0: p.initial.to_array().map(|x| [x, 0.0]),
+                a: [p.fields.a, 0.0],
+                b: [p.fields.b, 0.0],
+            };
+            let Some(out) =
+                self.run_lanes::<1, 2>(field.table(), &input, F64_BITS, Self::NAME_F64, grid)?
+            else {
+                return Ok(None);
+            };
+            Box::new(solution(Self::NAME_F64, out, |x| x[0] + x[1]))
+        } else if let Some(p) = any.downcast_ref::<Problem<DoubleDouble>>() {
+            let dd = |x: &DoubleDouble| [x.hi, x.lo, 0.0];
+            let input = FastInput::<3> {
+                x0: p.initial.to_array().map(|x| dd(&x)),
+                a: dd(&p.fields.a),
+                b: dd(&p.fields.b),
+            };
+            let Some(out) =
+                self.run_lanes::<2, 3>(field.table(), &input, DD_BITS, Self::NAME_DD, grid)?
+            else {
+                return Ok(None);
+            };
+            Box::new(solution(Self::NAME_DD, out, |x| {
+                DoubleDouble::new(x[0], x[1] + x[2])
+            }))
+        } else {
+            return Ok(None);
+        };
+        Ok(Some(
+            *solution
+                .downcast::<Solution<T>>()
+                .expect("the solution has the problem's scalar"),
+        ))
+    }
+
+    /// taylor-f64 (`dd = false`) or taylor-dd (`dd = true`) from a high-precision problem,
+    /// with nothing lost at the start: the initial state and the fields enter with their low
+    /// parts (x = x₀ + x₁ (+ x₂), each part the f64 rounding of the rest), and the states come
+    /// back with the compensated state's low part, at the precision of `problem`. Falls back
+    /// to rounding the problem to the scalar when the lane kernel does not apply
+    /// (uncompensated).
+    pub fn propagate_float(
+        &self,
+        dd: bool,
+        problem: &Problem<Float>,
+        grid: &OutputGrid,
+    ) -> Result<Solution<Float>, DynamicsError> {
+        let bits = problem.initial.omega[0].prec();
+        let table = &crate::equations::EULER_POISSON;
+        if dd {
+            let input = FastInput::<3> {
+                x0: problem.initial.to_array().map(|x| float_parts(&x)),
+                a: float_parts(&problem.fields.a),
+                b: float_parts(&problem.fields.b),
+            };
+            if let Some(out) =
+                self.run_lanes::<2, 3>(table, &input, DD_BITS, Self::NAME_DD, grid)?
+            {
+                return Ok(solution(Self::NAME_DD, out, |x| parts_to_float(x, bits)));
+            }
+            let p = crate::integrators::map_problem(problem, DoubleDouble::from_float);
+            let sol = generic::propagate(self, VectorField::new(&p.fields), &p, grid)?;
+            Ok(crate::integrators::map_solution(sol, |x| x.to_float(bits)))
+        } else {
+            let input = FastInput::<2> {
+                x0: problem.initial.to_array().map(|x| float_parts(&x)),
+                a: float_parts(&problem.fields.a),
+                b: float_parts(&problem.fields.b),
+            };
+            if let Some(out) =
+                self.run_lanes::<1, 2>(table, &input, F64_BITS, Self::NAME_F64, grid)?
+            {
+                return Ok(solution(Self::NAME_F64, out, |x| parts_to_float(x, bits)));
+            }
+            let p = crate::integrators::map_problem(problem, Float::to_f64);
+            let sol = generic::propagate(self, VectorField::new(&p.fields), &p, grid)?;
+            Ok(crate::integrators::map_solution(sol, |x| {
+                Float::with_val(bits, *x)
+            }))
+        }
+    }
+}
+
+/// A [`Solution`] from a lane-kernel run, each state's K parts mapped by `f`.
+fn solution<T, const K: usize>(
+    method: &'static str,
+    out: FastOutput<K>,
+    f: impl Fn(&[f64; K]) -> T,
+) -> Solution<T> {
+    Solution {
+        method,
+        times: out.times,
+        states: out
+            .states
+            .iter()
+            .map(|x| {
+                let v: [T; DIM] = std::array::from_fn(|k| f(&x[k]));
+                let [w1, w2, w3, a1, a2, a3, b1, b2, b3] = v;
+                State {
+                    omega: [w1, w2, w3],
+                    alpha: [a1, a2, a3],
+                    beta: [b1, b2, b3],
+                }
+            })
+            .collect(),
+        stats: out.stats,
+    }
+}

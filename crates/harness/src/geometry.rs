@@ -1,0 +1,483 @@
+//! The geometry of the error (issue 11): at every sample, the integrated state's nearest point
+//! on N ([`rsts_closed_form::manifold::Projector`]) splits the state error into
+//!
+//! - the **departure from N**, |x − nearest point| (in the units of the state, max-norm): what
+//!   the integrals cannot see, growing like e^{λt} where N is normally hyperbolic;
+//! - the **drift along N**, |nearest point − exact state|: a phase error (Δψ₁, Δψ₂ of the nearest
+//!   point against the exact angles ψ⁰ + νt) and a shift of the torus (δm, δh, the drift of the
+//!   on-N integral relations), typically growing like t or t².
+//!
+//! The regular distance |X_Φ| of [`rsts_closed_form::manifold::distance`] is logged beside it.
+//! The computation runs in the integrator's precision: f64 for the f64 methods (a few tens of
+//! µs per sample), MPFR at the integrator's digits + 32 bits otherwise (docs/stability.md has
+//! the measured cost).
+
+use rsts_closed_form::manifold::distance::{field_norm, gain};
+use rsts_closed_form::manifold::{normal_type, NormalType, Projector};
+use rsts_closed_form::scalar::Scalar;
+use rsts_closed_form::{ExplicitMotion, TorusChoice};
+use rsts_dynamics::scalar::bits_for_digits;
+use rsts_dynamics::state::DIM;
+use rsts_dynamics::{Fields, Real, State};
+use rug::Float;
+use serde::{Deserialize, Deserializer, Serialize};
+
+use crate::growth::{self, Growth, Model};
+use crate::HarnessError;
+
+/// The geometry of the error at one sample.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SampleGeometry {
+    /// max-norm distance of the integrated state from its nearest point on N (state units).
+    pub distance_from_n: f64,
+    /// |X_Φ| at the integrated state (the regular, integral-derived measure of the departure).
+    pub x_phi: f64,
+    /// max-norm distance of the nearest point on N from the exact state (drift along N).
+    pub along_n: f64,
+    /// ψᵢ(nearest point) − ψᵢ(exact) in (−π, π]; `None` when no nearest point was found (a
+    /// state far from the torus, after the error saturated).
+    pub phase_error: Option<[f64; 2]>,
+    /// The nearest point's (m, h) minus the motion's.
+    pub dm: f64,
+    pub dh: f64,
+}
+
+/// The projection in one scalar.
+struct Inner<T> {
+    projector: Projector<T>,
+    fields: Fields<T>,
+    bits: u32,
+}
+
+impl<T: Scalar> Inner<T> {
+    fn new(motion: &ExplicitMotion<Float>, bits: u32) -> Result<Self, HarnessError> {
+        let c = &motion.constants;
+        let down = |x: &Float| T::from_mpfr(x, bits);
+        let choice = TorusChoice {
+            torus: motion.choice.torus,
+            phase1: 0.0,
+            phase2: 0.0,
+        };
+        let own = ExplicitMotion::new(down(&c.a), down(&c.b), down(&c.m), down(&c.h), choice)?;
+        Ok(Self {
+            projector: Projector::new(&own)?,
+            fields: Fields {
+                a: down(&c.a),
+                b: down(&c.b),
+            },
+            bits,
+        })
+    }
+
+    fn sample(
+        &self,
+        state: &State<Float>,
+        exact: &State<Float>,
+        psi_exact: &[Float; 2],
+    ) -> SampleGeometry {
+        let down = |x: &Float| T::from_mpfr(x, self.bits);
+        let x = state.map(down);
+        let x_phi = field_norm(&self.fields, &x).to_f64();
+        let target = x.to_array();
+        let guess = psi_exact.clone().map(|p| down(&p));
+        let exact = exact.to_array();
+        // The first-order model in (δm, δh) holds for small shifts of the torus only: beyond
+        // 1e-2 (an error that has saturated) there is no nearest point near the exact one.
+        let small = |shift: &T| shift.abs().to_f64() <= MAX_SHIFT;
+        match self
+            .projector
+            .project(&target, &guess)
+            .filter(|p| small(&p.dm) && small(&p.dh))
+        {
+            Some(p) => {
+                let pi = std::f64::consts::PI;
+                let phase_error = std::array::from_fn(|i| {
+                    // (ψ − ψ_exact) in (−π, π], in T then f64.
+                    let two_pi = T::pi(self.bits) * T::from_f64(2.0, self.bits);
+                    let d = p.phases[i].clone() - &guess[i];
+                    let turns = (d.clone() / &two_pi + T::from_f64(0.5, self.bits)).floor();
+                    let w = (d - turns * two_pi).to_f64();
+                    if w <= -pi {
+                        w + 2.0 * pi
+                    } else {
+                        w
+                    }
+                });
+                let along_n = (0..DIM)
+                    .map(|k| (p.point[k].clone() - down(&exact[k])).abs().to_f64())
+                    .fold(0.0, f64::max);
+                SampleGeometry {
+                    distance_from_n: p.departure.to_f64(),
+                    x_phi,
+                    along_n,
+                    phase_error: Some(phase_error),
+                    dm: p.dm.to_f64(),
+                    dh: p.dh.to_f64(),
+                }
+            }
+            None => {
+                // No nearest point near the exact one: the distance in state units from the
+                // gain of X_Φ at the state.
+                let g = gain(&self.fields_f64(), &state.map(|c| c.to_f64()));
+                SampleGeometry {
+                    distance_from_n: if g > 0.0 { x_phi / g } else { f64::NAN },
+                    x_phi,
+                    along_n: f64::NAN,
+                    phase_error: None,
+                    dm: f64::NAN,
+                    dh: f64::NAN,
+                }
+            }
+        }
+    }
+
+    fn fields_f64(&self) -> Fields<f64> {
+        Fields {
+            a: self.fields.a.to_f64(),
+            b: self.fields.b.to_f64(),
+        }
+    }
+}
+
+/// Largest |δm|, |δh| of a nearest point found by the first-order projection.
+const MAX_SHIFT: f64 = 1e-2;
+
+enum Precision {
+    F64(Box<Inner<f64>>),
+    Mp(Box<Inner<Float>>),
+}
+
+/// At most this many samples are kept for the growth fits (beyond it every other one is
+/// dropped and the stride doubles): bounded memory on runs of millions of samples.
+const MAX_KEPT: usize = 1 << 16;
+
+/// The series the growth fits need, decimated to at most [`MAX_KEPT`] points.
+#[derive(Default)]
+struct Series {
+    stride: usize,
+    seen: usize,
+    t: Vec<f64>,
+    state_error: Vec<f64>,
+    distance: Vec<f64>,
+    along: Vec<f64>,
+    phase: Vec<f64>,
+}
+
+impl Series {
+    fn push(&mut self, t: f64, state_error: f64, g: &SampleGeometry) {
+        let stride = self.stride.max(1);
+        self.seen += 1;
+        if !(self.seen - 1).is_multiple_of(stride) {
+            return;
+        }
+        self.t.push(t);
+        self.state_error.push(state_error);
+        self.distance.push(g.distance_from_n);
+        self.along.push(g.along_n);
+        self.phase.push(
+            g.phase_error
+                .map_or(f64::NAN, |[p, q]| p.abs().max(q.abs())),
+        );
+        if self.t.len() >= MAX_KEPT {
+            for v in [
+                &mut self.t,
+                &mut self.state_error,
+                &mut self.distance,
+                &mut self.along,
+                &mut self.phase,
+            ] {
+                let kept: Vec<f64> = v.iter().step_by(2).copied().collect();
+                *v = kept;
+            }
+            self.stride = stride * 2;
+        }
+    }
+}
+
+/// max and final value of a series.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct MaxFinal {
+    #[serde(deserialize_with = "nan_if_null")]
+    pub max: f64,
+    #[serde(rename = "final", deserialize_with = "nan_if_null")]
+    pub last: f64,
+}
+
+/// JSON writes a NaN as null: read it back as NaN (validate's report.json and baselines).
+fn nan_if_null<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Option::<f64>::deserialize(d).map(|x| x.unwrap_or(f64::NAN))
+}
+
+impl MaxFinal {
+    fn absorb(&mut self, x: f64) {
+        if x.is_finite() {
+            self.max = self.max.max(x);
+        }
+        self.last = x;
+    }
+}
+
+/// How a series grows: "polynomial" (~t^exponent) or "exponential" (~e^{rate·t}), with both
+/// fitted numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GrowthSummary {
+    pub kind: Model,
+    /// λ of the exponential fit (per unit time).
+    pub rate: f64,
+    /// p of the polynomial fit.
+    pub exponent: f64,
+}
+
+impl GrowthSummary {
+    fn of(g: &Option<Growth>) -> Option<Self> {
+        g.as_ref().map(|g| Self {
+            kind: g.model,
+            rate: g.lambda,
+            exponent: g.p,
+        })
+    }
+
+    /// "e^{0.241 t}" or "t^2.03".
+    pub fn describe(&self) -> String {
+        match self.kind {
+            Model::Exponential => format!("e^({:.3} t)", self.rate),
+            Model::Polynomial => format!("t^{:.2}", self.exponent),
+        }
+    }
+}
+
+/// The departure from N over a run (the `normal` object of the compare JSON).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NormalSummary {
+    /// "elliptic", "hyperbolic" or "degenerate": the normal type of N at (m, h).
+    #[serde(rename = "type")]
+    pub kind: NormalType,
+    /// λ² = −4r⁴mℓ².
+    pub lambda2: f64,
+    /// Distance of the integrated state from N (state units).
+    #[serde(rename = "distance_from_N")]
+    pub distance_from_n: MaxFinal,
+    /// |X_Φ| along the run.
+    pub x_phi: MaxFinal,
+    /// Growth of the distance from N (null: too few samples).
+    pub growth: Option<GrowthSummary>,
+}
+
+/// The phase error over a run (the `phase_error` object of the compare JSON).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PhaseErrorSummary {
+    /// |Δψ₁|, |Δψ₂| (radians): largest and at the last sample.
+    pub psi1: MaxFinal,
+    pub psi2: MaxFinal,
+    /// Drift of the torus: largest |δm|, |δh| of the nearest point.
+    pub dm: f64,
+    pub dh: f64,
+    /// Growth of max(|Δψ₁|, |Δψ₂|).
+    pub growth: Option<GrowthSummary>,
+}
+
+/// What dominates the state error, at the last sample before it saturates.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ErrorSplit {
+    /// The sample's time and its two parts: along N and the departure from N.
+    pub t: f64,
+    #[serde(deserialize_with = "nan_if_null")]
+    pub along_n: f64,
+    #[serde(rename = "departure_from_N", deserialize_with = "nan_if_null")]
+    pub departure_from_n: f64,
+    /// "drift along the torus" or "departure from N".
+    pub dominant: String,
+    /// The sentence the table shows.
+    pub summary: String,
+}
+
+/// Everything the geometry adds to a report.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GeometrySummary {
+    pub normal: NormalSummary,
+    pub phase_error: PhaseErrorSummary,
+    pub error_split: Option<ErrorSplit>,
+}
+
+/// Tracks the geometry of the error along a run.
+pub struct Geometry {
+    precision: Precision,
+    /// ψ⁰ and ν of the exact motion, at the reference precision.
+    psi0: [Float; 2],
+    nu: [Float; 2],
+    two_pi: Float,
+    normal: NormalSummary,
+    phase: PhaseErrorSummary,
+    series: Series,
+    /// Samples seen, and the last one if it was skipped.
+    index: usize,
+    skipped: Option<(Float, State<Float>, State<Float>, f64)>,
+}
+
+impl Geometry {
+    /// For the exact `motion` (at the reference precision) and an integrator carrying `digits`
+    /// decimal digits (≤ 16: f64).
+    pub fn new(motion: &ExplicitMotion<Float>, digits: u32) -> Result<Self, HarnessError> {
+        let precision = if digits <= 16 {
+            Precision::F64(Box::new(Inner::new(motion, 53)?))
+        } else {
+            let bits = (bits_for_digits(digits) + 32).min(motion.constants.a.prec());
+            Precision::Mp(Box::new(Inner::new(motion, bits)?))
+        };
+        let bits = motion.constants.a.prec();
+        let n = normal_type(&motion.constants);
+        Ok(Self {
+            precision,
+            psi0: [motion.choice.phase1, motion.choice.phase2].map(|p| Float::with_val(bits, p)),
+            nu: motion.frequencies(),
+            two_pi: Float::with_val(bits, rug::float::Constant::Pi) * 2u32,
+            normal: NormalSummary {
+                kind: n.kind,
+                lambda2: n.lambda2.to_f64(),
+                distance_from_n: MaxFinal::default(),
+                x_phi: MaxFinal::default(),
+                growth: None,
+            },
+            phase: PhaseErrorSummary::default(),
+            series: Series::default(),
+            index: 0,
+            skipped: None,
+        })
+    }
+
+    /// The geometry of the integrated `state` at time `t` against the `exact` state (samples
+    /// in time order). `None` for the samples an MPFR run skips ([`Geometry::wanted`]).
+    pub fn sample(
+        &mut self,
+        t: &Float,
+        state: &State<Float>,
+        exact: &State<Float>,
+        state_error: f64,
+    ) -> Option<SampleGeometry> {
+        let index = self.index;
+        self.index += 1;
+        if !self.wanted(index) {
+            self.skipped = Some((t.clone(), state.clone(), exact.clone(), state_error));
+            return None;
+        }
+        self.skipped = None;
+        Some(self.compute(t, state, exact, state_error))
+    }
+
+    /// Every sample in f64; in MPFR (about two closed-form evaluations and a gradient of Φ per
+    /// sample in the working precision) the first 32, then 16 per doubling of the index (every
+    /// 2nd in 32..64, every 4th in 64..128, …), and the last one: log-spaced samples for the
+    /// growth fits at a bounded cost.
+    fn wanted(&self, index: usize) -> bool {
+        match self.precision {
+            Precision::F64(_) => true,
+            Precision::Mp(_) => {
+                index < 32 || {
+                    let level = usize::BITS - 1 - index.leading_zeros();
+                    index.is_multiple_of(1usize << (level - 4))
+                }
+            }
+        }
+    }
+
+    fn compute(
+        &mut self,
+        t: &Float,
+        state: &State<Float>,
+        exact: &State<Float>,
+        state_error: f64,
+    ) -> SampleGeometry {
+        let psi_exact: [Float; 2] = std::array::from_fn(|i| {
+            let p = self.nu[i].clone() * t + &self.psi0[i];
+            let turns = (p.clone() / &self.two_pi).floor();
+            p - turns * &self.two_pi
+        });
+        let g = match &self.precision {
+            Precision::F64(inner) => inner.sample(state, exact, &psi_exact),
+            Precision::Mp(inner) => inner.sample(state, exact, &psi_exact),
+        };
+        self.normal.distance_from_n.absorb(g.distance_from_n);
+        self.normal.x_phi.absorb(g.x_phi);
+        if let Some([p, q]) = g.phase_error {
+            self.phase.psi1.absorb(p.abs());
+            self.phase.psi2.absorb(q.abs());
+            self.phase.dm = self.phase.dm.max(g.dm.abs());
+            self.phase.dh = self.phase.dh.max(g.dh.abs());
+        }
+        self.series.push(t.to_f64(), state_error, &g);
+        g
+    }
+
+    /// The summary: growth fits and what dominates the error.
+    pub fn finish(mut self) -> GeometrySummary {
+        // The last sample counts, skipped or not.
+        if let Some((t, state, exact, e)) = self.skipped.take() {
+            self.compute(&t, &state, &exact, e);
+        }
+        let s = &self.series;
+        let mut normal = self.normal;
+        normal.growth = GrowthSummary::of(&growth::fit(&s.t, &s.distance));
+        let mut phase = self.phase;
+        phase.growth = GrowthSummary::of(&growth::fit(&s.t, &s.phase));
+        let error_split = split(s, &normal, &phase);
+        GeometrySummary {
+            normal,
+            phase_error: phase,
+            error_split,
+        }
+    }
+}
+
+/// The split at the last sample before the state error saturates ([`growth::SATURATION`]).
+fn split(s: &Series, normal: &NormalSummary, phase: &PhaseErrorSummary) -> Option<ErrorSplit> {
+    let k = s
+        .state_error
+        .iter()
+        .rposition(|e| *e <= growth::SATURATION && e.is_finite())?;
+    let (along, departure) = (s.along[k], s.distance[k]);
+    // Hyperbolic N: a departure grows like e^{λt} and drags a drift along N with it (its
+    // unstable direction is not orthogonal to N), so the two parts are compared by how they
+    // grow, not by size: an exponentially growing departure is the cause.
+    let unstable = normal
+        .growth
+        .as_ref()
+        .is_some_and(|g| g.kind == Model::Exponential);
+    let departs = unstable || departure > along || along.is_nan();
+    let summary = if departs {
+        let how = match &normal.growth {
+            Some(g) if unstable => format!("e^(λt) with λ = {:.3} per unit time", g.rate),
+            Some(g) => format!("growing like {}", g.describe()),
+            None => "too few samples to fit its growth".to_string(),
+        };
+        let why = match normal.kind {
+            NormalType::Hyperbolic => "N is normally hyperbolic here (m < 0)",
+            NormalType::Elliptic => "N is normally elliptic here",
+            NormalType::Degenerate => "N is normally degenerate here",
+        };
+        format!("departure from N, {how}: {why}")
+    } else {
+        let how = match &phase.growth {
+            Some(g) if g.kind == Model::Polynomial && (g.exponent - 1.0).abs() < 0.3 => {
+                "phase error linear in t".to_string()
+            }
+            Some(g) if g.kind == Model::Polynomial && (g.exponent - 2.0).abs() < 0.3 => {
+                "phase error quadratic in t".to_string()
+            }
+            Some(g) => format!("phase error growing like {}", g.describe()),
+            None => "too few samples to fit the phase error's growth".to_string(),
+        };
+        format!("drift along the torus, {how}")
+    };
+    Some(ErrorSplit {
+        t: s.t[k],
+        along_n: along,
+        departure_from_n: departure,
+        dominant: if departs {
+            "departure from N"
+        } else {
+            "drift along the torus"
+        }
+        .to_string(),
+        summary,
+    })
+}

@@ -1,0 +1,199 @@
+//! The geometry of the error (issue 11): synthetic trajectories with a known split (a pure
+//! phase shift, a pure departure off N) come back as such; real runs split as the normal type
+//! says (elliptic I+: drift along the torus, ~t²; hyperbolic V: departure from N, e^{λt}); the
+//! split is consistent with the state error at every sample; MPFR runs are measured in their
+//! own precision.
+
+use rsts_closed_form::manifold::NormalType;
+use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances};
+use rsts_dynamics::State;
+use rsts_harness::growth::Model;
+use rsts_harness::{analyse, compare, Analysis, Case, NoObserver, Observer, RunInfo, SampleRecord};
+use rug::Float;
+
+fn case(m: f64, h: f64, t_end: f64, samples: usize) -> Case {
+    Case {
+        a: 1.0,
+        b: 0.5,
+        m,
+        h,
+        torus: 0,
+        phase1: 0.4,
+        phase2: 1.3,
+        t_end,
+        samples,
+    }
+}
+
+fn config(method: MethodName, tol: f64) -> MethodConfig {
+    MethodConfig::new(method, Tolerances::new(tol, tol).unwrap(), None).unwrap()
+}
+
+fn info(digits: u32) -> RunInfo {
+    RunInfo {
+        method: "synthetic".into(),
+        rtol: None,
+        atol: None,
+        digits,
+    }
+}
+
+const BITS: u32 = 200;
+
+fn times(c: &Case) -> Vec<Float> {
+    (0..c.samples)
+        .map(|k| Float::with_val(BITS, c.t_end * k as f64 / (c.samples - 1) as f64))
+        .collect()
+}
+
+#[derive(Default)]
+struct Records(Vec<SampleRecord>);
+impl Observer for Records {
+    fn on_sample(&mut self, r: &SampleRecord) -> Result<(), String> {
+        self.0.push(*r);
+        Ok(())
+    }
+}
+
+#[test]
+fn a_time_shift_is_a_pure_phase_error() {
+    // The exact motion τ late: on N (distance ~ round-off), phase error ν·τ on both angles.
+    let c = case(-0.7092, 1.5643, 10.0, 21);
+    let tau = 1e-6;
+    let a = Analysis::for_case(&c, BITS, info(15)).unwrap();
+    let nu = a.motion().frequencies().map(|x| x.to_f64());
+    let ts = times(&c);
+    let states: Vec<State<Float>> = ts
+        .iter()
+        .map(|t| a.exact_state(&(t.clone() + Float::with_val(BITS, tau))))
+        .collect();
+    let mut rec = Records::default();
+    let r = analyse(a, &ts, &states, &mut rec).unwrap();
+    for s in &rec.0 {
+        let e = &s.errors;
+        assert!(
+            e.distance_from_n < 1e-14,
+            "t = {}: off N by {:e}",
+            s.t,
+            e.distance_from_n
+        );
+        for (i, (got, nu)) in e.phase_error.iter().zip(nu).enumerate() {
+            let want = nu * tau;
+            assert!(
+                (got - want).abs() < 1e-6 * want + 1e-14,
+                "t = {}: Δψ{} = {got:e}, ν τ = {want:e}",
+                s.t,
+                i + 1
+            );
+        }
+        assert!((e.along_n - e.state_error).abs() < 1e-3 * e.state_error + 1e-15);
+    }
+    let split = r.error_split.unwrap();
+    assert_eq!(split.dominant, "drift along the torus", "{split:?}");
+}
+
+#[test]
+fn a_move_off_n_is_a_pure_departure() {
+    // The exact motion moved by 1e-9 along ω₃ (off N: d ≠ 0): departure ≈ the move's normal
+    // part, phases unchanged to first order.
+    let c = case(0.3, -0.375, 10.0, 21);
+    let a = Analysis::for_case(&c, BITS, info(15)).unwrap();
+    let ts = times(&c);
+    let eps = 1e-9;
+    let states: Vec<State<Float>> = ts
+        .iter()
+        .map(|t| {
+            let mut s = a.exact_state(t);
+            s.omega[2] += eps;
+            s
+        })
+        .collect();
+    let mut rec = Records::default();
+    analyse(a, &ts, &states, &mut rec).unwrap();
+    for s in &rec.0 {
+        let e = &s.errors;
+        assert!(
+            e.distance_from_n > 1e-12 && e.distance_from_n <= eps * (1.0 + 1e-6),
+            "t = {}: {:e}",
+            s.t,
+            e.distance_from_n
+        );
+        assert!(e.phase_error[0].abs() < 1e-8 && e.phase_error[1].abs() < 1e-8);
+        assert!(e.x_phi > 1e-13, "|X_Φ| = {:e}", e.x_phi);
+    }
+}
+
+#[test]
+fn elliptic_runs_drift_along_the_torus_and_hyperbolic_runs_depart_from_n() {
+    let mut rec = Records::default();
+    let ell = compare(
+        &case(0.3, -0.375, 1000.0, 2001),
+        &config(MethodName::Dop853, 1e-12),
+        &mut rec,
+    )
+    .unwrap();
+    let normal = ell.normal.as_ref().unwrap();
+    assert_eq!(normal.kind, NormalType::Elliptic);
+    assert!(normal.distance_from_n.max < 1e-9, "{normal:?}");
+    let phase = ell.phase_error.as_ref().unwrap().growth.unwrap();
+    assert_eq!(phase.kind, Model::Polynomial);
+    assert!((phase.exponent - 2.0).abs() < 0.3, "{phase:?}");
+    let split = ell.error_split.as_ref().unwrap();
+    assert_eq!(split.dominant, "drift along the torus");
+    assert!(split.summary.contains("quadratic"), "{}", split.summary);
+    // The parts bound the state error at every sample (max-norms: triangle inequality), and
+    // the departure is at most the error itself (the exact state is a point of N).
+    for s in &rec.0 {
+        let e = &s.errors;
+        assert!(
+            e.state_error <= (e.along_n + e.distance_from_n) * (1.0 + 1e-6) + 1e-15,
+            "t = {}",
+            s.t
+        );
+        assert!(
+            e.distance_from_n <= 3.0 * e.state_error + 1e-15,
+            "t = {}",
+            s.t
+        );
+    }
+    let hyp = compare(
+        &case(-0.7092, 1.5643, 300.0, 1501),
+        &config(MethodName::Dop853, 1e-12),
+        &mut NoObserver,
+    )
+    .unwrap();
+    let normal = hyp.normal.as_ref().unwrap();
+    assert_eq!(normal.kind, NormalType::Hyperbolic);
+    let g = normal.growth.unwrap();
+    assert_eq!(g.kind, Model::Exponential, "{normal:?}");
+    // docs/stability.md: the state error grows like e^{0.23…0.26 t} at this point.
+    assert!(g.rate > 0.18 && g.rate < 0.3, "{g:?}");
+    let split = hyp.error_split.as_ref().unwrap();
+    assert_eq!(split.dominant, "departure from N", "{split:?}");
+    assert!(split.summary.contains("normally hyperbolic"));
+}
+
+#[test]
+fn an_mpfr_run_is_measured_in_its_own_precision() {
+    let c = case(-0.7092, 1.5643, 5.0, 41);
+    let mut cfg = config(MethodName::TaylorMp, 1e-30);
+    cfg.digits = Some(40);
+    let mut rec = Records::default();
+    let r = compare(&c, &cfg, &mut rec).unwrap();
+    let normal = r.normal.as_ref().unwrap();
+    // Far below f64: the geometry is computed at the integrator's digits.
+    assert!(
+        normal.distance_from_n.max < 1e-26 && normal.distance_from_n.max > 0.0,
+        "{normal:?}"
+    );
+    let phase = r.phase_error.as_ref().unwrap();
+    assert!(phase.psi1.max < 1e-24 && phase.psi1.max > 0.0, "{phase:?}");
+    // The first 32 samples and then every 2nd, and the last one, carry the geometry.
+    let with: Vec<usize> = rec
+        .0
+        .iter()
+        .filter(|s| s.errors.distance_from_n.is_finite())
+        .map(|s| s.index)
+        .collect();
+    assert!(with.len() >= 36 && with.len() < 41, "{with:?}");
+}
