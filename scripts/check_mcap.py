@@ -10,8 +10,9 @@ checks, printing what it found:
   * every message decodes as JSON and its channel has message encoding `json`, schema
     encoding `jsonschema` and a schema whose JSON `title` is the schema name;
   * the per-channel message counts of the summary statistics equal the messages read;
-  * `foxglove.FrameTransform` rotations are unit quaternions; `foxglove.SceneUpdate`
-    line strips carry at most 2 points (hodographs are logged incrementally);
+  * `foxglove.FrameTransform` rotations are unit quaternions; with --rsts-layout,
+    `foxglove.SceneUpdate` line strips carry at most 2 points (the hodographs of a
+    comparison are logged incrementally);
   * the expectations given on the command line:
       --expect-channels /tf=foxglove.FrameTransform /errors   (topic present [with schema])
       --expect-count /tf=2000                                 (exact message count)
@@ -126,7 +127,7 @@ def main(argv):
                     n = math.sqrt(r["x"] ** 2 + r["y"] ** 2 + r["z"] ** 2 + r["w"] ** 2)
                     if abs(n - 1) > 1e-12:
                         fail(f"{topic}: rotation norm {n} at log time {message.log_time}")
-                elif name == "foxglove.SceneUpdate":
+                elif name == "foxglove.SceneUpdate" and args.rsts_layout:
                     for e in data["entities"]:
                         for line in e.get("lines", []):
                             if len(line["points"]) > 2:

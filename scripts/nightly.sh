@@ -7,7 +7,10 @@
 # baseline stays (a regression keeps being reported until it is fixed, not accepted by rerunning).
 # Extra arguments go to `rsts validate`, e.g. scripts/nightly.sh --jobs 2; RSTS_NIGHTLY_SUITE picks
 # another suite file.
-# Exit code: that of `rsts validate` (0 pass, 1 a run failed or regressed, 2 bad input).
+# Then the real-viewer check (scripts/check_viewer.sh, screenshots in <run>/viewer/): every kind
+# of MCAP file with the shipped layouts in Foxglove Studio; RSTS_NIGHTLY_VIEWER=0 leaves it out.
+# Exit code: that of `rsts validate` (0 pass, 1 a run failed or regressed, 2 bad input); when it
+# passed, that of the viewer check (1 a viewer problem or an empty panel, 2 it could not run).
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -41,5 +44,16 @@ if [ "$code" -eq 0 ]; then
   echo "baseline for the next run: $out/baseline (from $run)"
 elif [ "$code" -eq 1 ]; then
   echo "runs failed or regressed: see $run/report.md; the baseline stays $out/baseline" >&2
+fi
+
+if [ "${RSTS_NIGHTLY_VIEWER:-1}" != 0 ]; then
+  set +e
+  "$root/scripts/check_viewer.sh" --out "$run/viewer"
+  viewer=$?
+  set -e
+  if [ "$viewer" -ne 0 ]; then
+    echo "the real-viewer check failed: see $run/viewer/report.json" >&2
+    if [ "$code" -eq 0 ]; then code=$viewer; fi
+  fi
 fi
 exit "$code"

@@ -1,14 +1,89 @@
 #!/usr/bin/env bash
-# Run every test of the workspace in release mode (the first build compiles GMP/MPFR: ~5 min).
-# Extra arguments go to cargo test, e.g. scripts/test.sh -p rsts-cli
-set -euo pipefail
+# Run every test of the workspace in release mode: the same build as scripts/run.sh, so after
+# run.sh only the tests themselves are compiled (crates/cli/tests/one_build.rs checks it).
+# The last line is the summary `N passed, M failed, K skipped`:
+#   N  tests that passed, less those that skipped all their work for a missing optional tool
+#      (they call rsts_io::report_skip, which appends a line to $RSTS_SKIP_LOG);
+#   M  tests that failed;
+#   K  lines in $RSTS_SKIP_LOG (a whole test, or one part such as a documented example that
+#      needs heyoka) plus the tests marked #[ignore].
+# The exit status is cargo's. Every test binary runs even when one fails (--no-fail-fast).
+# Extra arguments go to cargo test; --workspace is added unless they pick packages:
+#   scripts/test.sh --test conservation        # one test file, no recompilation
+#   scripts/test.sh -p rsts-cli -- --nocapture
+set -uo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-"$root/scripts/setup.sh"
+"$root/scripts/setup.sh" || exit
 if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"; fi
+cd "$root" || exit
 
-cd "$root"
-if [ "$#" -eq 0 ]; then
-  set -- --workspace
+args=("$@")
+pick_packages=no
+for a in "$@"; do
+  case "$a" in
+    --) break ;;
+    -p | -p* | --package | --package=* | --workspace | --all | --manifest-path | --manifest-path=*)
+      pick_packages=yes ;;
+  esac
+done
+if [ "$pick_packages" = no ]; then
+  args=(--workspace "${args[@]}")
 fi
-exec cargo test --release "$@"
+
+work="$(mktemp -d "${TMPDIR:-/tmp}/rsts-test.XXXXXX")"
+trap 'rm -rf "$work"' EXIT
+export RSTS_SKIP_LOG="$work/skipped"
+: >"$RSTS_SKIP_LOG"
+
+start=$SECONDS
+cargo test --release --no-run "${args[@]}"
+status=$?
+if [ "$status" -ne 0 ]; then
+  echo "test.sh: the build failed (cargo exit status $status): see above"
+  echo "0 passed, 0 failed, 0 skipped"
+  exit "$status"
+fi
+if [ $((SECONDS - start)) -ge 10 ]; then
+  echo "test.sh: build took $(((SECONDS - start) / 60)) min $(((SECONDS - start) % 60)) s"
+fi
+
+cargo test --release --no-fail-fast "${args[@]}" 2>&1 | tee "$work/log"
+status=${PIPESTATUS[0]}
+
+# Skipped: the lines `SKIPPED: NAME: REASON`; a NAME that is a passed test's name (or the last
+# part of its path) means that test did none of its work.
+awk -v skipfile="$RSTS_SKIP_LOG" '
+  BEGIN {
+    while ((getline line < skipfile) > 0) {
+      if (line !~ /^SKIPPED: /) continue
+      skips++
+      name = substr(line, 10); sub(/: .*/, "", name)
+      skipped_name[name] = 1
+    }
+  }
+  /^test result: / {
+    for (i = 1; i <= NF; i++) {
+      if ($(i + 1) ~ /^passed/) passed += $i
+      if ($(i + 1) ~ /^failed/) failed += $i
+      if ($(i + 1) ~ /^ignored/) ignored += $i
+    }
+  }
+  /^test .* \.\.\. ok$/ {
+    name = $2; short = name; sub(/.*::/, "", short)
+    if ((name in skipped_name) || (short in skipped_name)) whole++
+  }
+  END {
+    printf "%d passed, %d failed, %d skipped\n", passed - whole, failed, skips + ignored
+  }
+' "$work/log" >"$work/summary"
+
+if [ "$status" -ne 0 ]; then
+  echo "test.sh: cargo test exited with status $status (failed tests, a test binary that crashed, or a build error: see above)"
+fi
+if [ -s "$RSTS_SKIP_LOG" ]; then
+  echo "test.sh: skipped:"
+  sed 's/^SKIPPED: /  /' "$RSTS_SKIP_LOG"
+fi
+cat "$work/summary"
+exit "$status"

@@ -9,6 +9,7 @@ mod args;
 mod commands;
 mod external;
 mod interrupt;
+mod invocation;
 mod output;
 
 use std::io::{self, Write};

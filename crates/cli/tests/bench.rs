@@ -125,7 +125,14 @@ fn svg_has_one_line_per_method() {
         !svg.contains("stroke-dasharray"),
         "no external integrator, no dashes"
     );
-    assert!(svg.contains(">1e-"), "log axes");
+    assert!(svg.contains(r#"class="tick x" data-v="1e-"#), "log axes");
+    for tol in ["1e-6", "1e-10"] {
+        assert_eq!(
+            svg.matches(&format!(">{tol}<")).count(),
+            3,
+            "tolerance {tol} at each point"
+        );
+    }
     assert!(String::from_utf8_lossy(&out.stdout).contains("max error"));
 }
 

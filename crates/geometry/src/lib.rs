@@ -11,6 +11,7 @@ pub mod ply;
 pub mod render;
 pub mod scene;
 pub mod tables;
+pub mod text;
 
 pub use classify::{camera_geometry, CameraGeometry, MotionKinds, PendulumKind};
 pub use mesh::{Surface, TorusMesh};

@@ -1,10 +1,11 @@
 //! A small software rasteriser for the bearing surfaces: orthographic projection from a fixed
 //! viewing direction, z-buffer, per-pixel Lambert shading of interpolated normals with two lights
-//! (two-sided: the front and back faces get different colours, so folds read), the hodograph as a
-//! polyline on top (depth-tested; its hidden parts drawn faint), a small axis triad, 2 × 2
-//! supersampling, written as an 8-bit RGB PNG.
+//! (two-sided), the hodograph as a polyline on top (depth-tested; its hidden parts drawn faint),
+//! a title, an axis triad labelled 1, 2, 3 and a scale bar, 2 × 2 supersampling, written as an
+//! 8-bit RGB PNG.
 
 use crate::mesh::{bounds, norm, triangle_normal, unit};
+use crate::text;
 use crate::GeometryError;
 
 /// Options of [`render_png`].
@@ -15,6 +16,12 @@ pub struct RenderOptions {
     /// Viewing direction: azimuth from the +x axis about z, and elevation above the xy-plane.
     pub azimuth_deg: f64,
     pub elevation_deg: f64,
+    /// Title lines at the top (the first larger), e.g. the surface and camera, then (a, b, m, h)
+    /// and the torus; none: no title band.
+    pub title: Vec<String>,
+    /// A scale bar (a round length in the surface's units) at the bottom right; off when the
+    /// axes are scaled differently (`--normalize-axes`).
+    pub scale_bar: bool,
 }
 
 impl Default for RenderOptions {
@@ -24,6 +31,8 @@ impl Default for RenderOptions {
             height: 480,
             azimuth_deg: 35.0,
             elevation_deg: 25.0,
+            title: Vec::new(),
+            scale_bar: true,
         }
     }
 }
@@ -36,10 +45,6 @@ pub const MAX_SIDE: u32 = 1200;
 const SS: usize = 2;
 const BACKGROUND: [f64; 3] = [1.0, 1.0, 1.0];
 const FRONT: [f64; 3] = [0.95, 0.62, 0.32];
-/// The same colour for both sides: where the torus covers a sheet twice with opposite
-/// orientations (the P-surface of camera I folds the torus onto itself) a two-colour scheme
-/// would show z-fighting patches instead of the shape.
-const BACK: [f64; 3] = FRONT;
 const CURVE: [f64; 3] = [0.55, 0.0, 0.1];
 const AXES: [[f64; 3]; 3] = [[0.85, 0.1, 0.1], [0.1, 0.6, 0.1], [0.1, 0.2, 0.85]];
 
@@ -53,7 +58,8 @@ struct Camera {
     depth_lo: f64,
     depth_hi: f64,
     w: usize,
-    h: usize,
+    /// Vertical centre of the picture (px, down).
+    middle: f64,
 }
 
 fn dot(p: [f64; 3], q: [f64; 3]) -> f64 {
@@ -61,7 +67,8 @@ fn dot(p: [f64; 3], q: [f64; 3]) -> f64 {
 }
 
 impl Camera {
-    fn new(points: &[[f64; 3]], opts: &RenderOptions, w: usize, h: usize) -> Self {
+    /// A camera that fits `points` between the rows `top` and `bottom` (px).
+    fn new(points: &[[f64; 3]], opts: &RenderOptions, w: usize, top: f64, bottom: f64) -> Self {
         let (az, el) = (
             opts.azimuth_deg.to_radians(),
             opts.elevation_deg.to_radians(),
@@ -89,10 +96,8 @@ impl Camera {
             zlo = zlo.min(dot(d, toward));
             zhi = zhi.max(dot(d, toward));
         }
-        // Leave the bottom-left corner to the axis triad: the picture is centred a little above
-        // the middle and fills at most 84 % of the height.
         let fit = |e: f64, side: f64| if e > 0.0 { side / e } else { 1.0 };
-        let scale = fit(ext[0], 0.44 * w as f64).min(fit(ext[1], 0.41 * h as f64));
+        let scale = fit(ext[0], 0.45 * w as f64).min(fit(ext[1], 0.47 * (bottom - top)));
         Self {
             right,
             up,
@@ -102,7 +107,7 @@ impl Camera {
             depth_lo: zlo * scale,
             depth_hi: zhi * scale,
             w,
-            h,
+            middle: 0.5 * (top + bottom),
         }
     }
 
@@ -115,10 +120,16 @@ impl Camera {
         ];
         [
             0.5 * self.w as f64 + self.scale * dot(d, self.right),
-            0.45 * self.h as f64 - self.scale * dot(d, self.up),
+            self.middle - self.scale * dot(d, self.up),
             dot(d, self.toward) * self.scale,
         ]
     }
+}
+
+#[derive(Clone, Copy)]
+enum Anchor {
+    Start,
+    Middle,
 }
 
 struct Raster {
@@ -138,12 +149,12 @@ impl Raster {
         }
     }
 
+    /// Two-sided lighting that does not depend on which side faces the viewer: each light counts
+    /// with |n·l|. (Flipping the normal toward the viewer instead makes the brightness jump
+    /// where an interpolated normal turns edge-on inside a visible sheet, as happens along the
+    /// folds of these surfaces: the seams the pictures used to show.)
     fn shade(n: [f64; 3], z: f64, cam: &Camera) -> [f64; 3] {
-        let (n, base) = if dot(n, cam.toward) >= 0.0 {
-            (n, FRONT)
-        } else {
-            (n.map(|x| -x), BACK)
-        };
+        let base = FRONT;
         // Two lights in camera coordinates: key from upper left, fill from the right.
         let key = [
             0.5 * cam.toward[0] - 0.45 * cam.right[0] + 0.55 * cam.up[0],
@@ -161,7 +172,7 @@ impl Raster {
         } else {
             cam.toward
         };
-        let l = |v: [f64; 3]| dot(n, v.map(|x| x / norm(v))).max(0.0);
+        let l = |v: [f64; 3]| dot(n, v.map(|x| x / norm(v))).abs();
         // Blinn–Phong highlight of the key light, and depth cueing (farther: darker).
         let half = {
             let k = key.map(|x| x / norm(key));
@@ -172,7 +183,7 @@ impl Raster {
             ];
             hv.map(|x| x / norm(hv))
         };
-        let spec = 0.25 * dot(n, half).max(0.0).powi(24);
+        let spec = 0.25 * dot(n, half).abs().powi(24);
         let range = cam.depth_hi - cam.depth_lo;
         let near = if range > 0.0 {
             ((z - cam.depth_lo) / range).clamp(0.0, 1.0)
@@ -241,6 +252,71 @@ impl Raster {
         }
     }
 
+    fn blend(&mut self, x: i64, y: i64, color: [f64; 3], alpha: f64) {
+        if x < 0 || y < 0 || x >= self.w as i64 || y >= self.h as i64 {
+            return;
+        }
+        let k = y as usize * self.w + x as usize;
+        let c = self.color[k];
+        let a = alpha.clamp(0.0, 1.0);
+        self.color[k] = std::array::from_fn(|i| c[i] * (1.0 - a) + color[i] * a);
+    }
+
+    /// Text of `size` px with its baseline at y; x is its left end, middle or right end.
+    fn text(&mut self, s: &str, size: f64, x: f64, y: f64, color: [f64; 3], anchor: Anchor) {
+        let width = text::width(s, size as f32) as f64;
+        let x0 = match anchor {
+            Anchor::Start => x,
+            Anchor::Middle => x - width / 2.0,
+        };
+        let mut pixels = Vec::new();
+        text::draw(s, size as f32, x0 as f32, y as f32, |px, py, cov| {
+            pixels.push((px, py, cov as f64))
+        });
+        for (px, py, cov) in pixels {
+            self.blend(px, py, color, cov);
+        }
+    }
+
+    /// A circle of `radius` px drawn with a line of half-width `half`.
+    fn ring(&mut self, c: [f64; 2], radius: f64, half: f64, color: [f64; 3]) {
+        let n = (radius * 2.0).ceil().max(16.0) as usize;
+        for k in 0..n {
+            let (a, b) = (
+                std::f64::consts::TAU * k as f64 / n as f64,
+                std::f64::consts::TAU * (k + 1) as f64 / n as f64,
+            );
+            self.line(
+                [
+                    c[0] + radius * a.cos(),
+                    c[1] + radius * a.sin(),
+                    f64::INFINITY,
+                ],
+                [
+                    c[0] + radius * b.cos(),
+                    c[1] + radius * b.sin(),
+                    f64::INFINITY,
+                ],
+                half,
+                color,
+                0.0,
+            );
+        }
+    }
+
+    fn disc(&mut self, c: [f64; 2], radius: f64, color: [f64; 3]) {
+        let r = radius.ceil() as i64 + 1;
+        for dy in -r..=r {
+            for dx in -r..=r {
+                let (x, y) = (c[0].floor() as i64 + dx, c[1].floor() as i64 + dy);
+                let d2 = (x as f64 + 0.5 - c[0]).powi(2) + (y as f64 + 0.5 - c[1]).powi(2);
+                if d2 <= radius * radius {
+                    self.blend(x, y, color, 1.0);
+                }
+            }
+        }
+    }
+
     /// A line of `radius` px; where it is behind the surface (beyond `bias`) it is blended faintly.
     fn line(&mut self, a: [f64; 3], b: [f64; 3], radius: f64, color: [f64; 3], bias: f64) {
         let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
@@ -266,32 +342,6 @@ impl Raster {
                     let c = self.color[k];
                     self.color[k] =
                         std::array::from_fn(|i| c[i] * (1.0 - alpha) + color[i] * alpha);
-                }
-            }
-        }
-    }
-}
-
-/// 3 × 5 bitmaps of the digits 1, 2, 3 (axis labels of the triad).
-const DIGITS: [[u8; 5]; 3] = [
-    [0b010, 0b110, 0b010, 0b010, 0b111],
-    [0b111, 0b001, 0b111, 0b100, 0b111],
-    [0b111, 0b001, 0b111, 0b001, 0b111],
-];
-
-fn digit(r: &mut Raster, d: usize, x: f64, y: f64, px: usize, color: [f64; 3]) {
-    for (row, bits) in DIGITS[d].iter().enumerate() {
-        for col in 0..3 {
-            if bits & (0b100 >> col) == 0 {
-                continue;
-            }
-            for yy in 0..px {
-                for xx in 0..px {
-                    let gx = x as i64 + (col * px + xx) as i64;
-                    let gy = y as i64 + (row * px + yy) as i64;
-                    if gx >= 0 && gy >= 0 && (gx as usize) < r.w && (gy as usize) < r.h {
-                        r.color[gy as usize * r.w + gx as usize] = color;
-                    }
                 }
             }
         }
@@ -393,13 +443,11 @@ fn jacobi_eigen(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     ([a[0][0], a[1][1], a[2][2]], v)
 }
 
-/// Render a surface (vertices, triangles) with a polyline on it to PNG bytes.
-pub fn render_png(
+fn validate(
     vertices: &[[f64; 3]],
     triangles: &[[u32; 3]],
-    curve: &[[f64; 3]],
     opts: &RenderOptions,
-) -> Result<Vec<u8>, GeometryError> {
+) -> Result<(), GeometryError> {
     for side in [opts.width, opts.height] {
         if !(MIN_SIDE..=MAX_SIDE).contains(&side) {
             return Err(GeometryError::Input(format!(
@@ -420,8 +468,29 @@ pub fn render_png(
     {
         return Err(GeometryError::Input("triangle index out of range".into()));
     }
+    Ok(())
+}
+
+/// Title sizes (output px) of the first and the other lines.
+const TITLE_SIZE: [f64; 2] = [15.0, 12.5];
+
+/// The shaded surface alone on a supersampled raster, with its camera (the rows above `top`
+/// and below `bottom` are left to the title and to the triad and scale bar).
+fn surface_raster(
+    vertices: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    opts: &RenderOptions,
+) -> (Raster, Camera) {
     let (w, h) = (opts.width as usize * SS, opts.height as usize * SS);
-    let cam = Camera::new(vertices, opts, w, h);
+    let unit_px = SS as f64 * opts.width.min(opts.height) as f64 / 480.0;
+    let top = if opts.title.is_empty() {
+        12.0 * unit_px
+    } else {
+        (14.0 + TITLE_SIZE[0] + 5.0 + (TITLE_SIZE[1] + 5.0) * (opts.title.len() - 1) as f64)
+            * unit_px
+    };
+    let bottom = h as f64 - 0.15 * h as f64;
+    let cam = Camera::new(vertices, opts, w, top, bottom);
     let mut r = Raster::new(w, h);
     let normals = unoriented_normals(vertices, triangles);
     let proj: Vec<[f64; 3]> = vertices.iter().map(|p| cam.project(*p)).collect();
@@ -437,6 +506,53 @@ pub fn render_png(
             &cam,
         );
     }
+    (r, cam)
+}
+
+/// How much the shading of a surface jumps: the fraction of neighbouring pixels on the same
+/// sheet (depths within a pixel) whose brightness differs by more than 0.15 (of 1). A smooth
+/// shading has none but where the surface is seen edge-on; a seam (normals that flip along a
+/// line) shows as a line of such pairs.
+pub fn shading_jumps(
+    vertices: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    opts: &RenderOptions,
+) -> Result<f64, GeometryError> {
+    validate(vertices, triangles, opts)?;
+    let (r, _) = surface_raster(vertices, triangles, opts);
+    let luma = |c: [f64; 3]| 0.3 * c[0] + 0.59 * c[1] + 0.11 * c[2];
+    let (mut pairs, mut jumps) = (0usize, 0usize);
+    for y in 0..r.h - 1 {
+        for x in 0..r.w - 1 {
+            let k = y * r.w + x;
+            for n in [k + 1, k + r.w] {
+                let (d0, d1) = (r.depth[k], r.depth[n]);
+                if !(d0.is_finite() && d1.is_finite()) || (d0 - d1).abs() > 1.0 {
+                    continue;
+                }
+                pairs += 1;
+                if (luma(r.color[k]) - luma(r.color[n])).abs() > 0.15 {
+                    jumps += 1;
+                }
+            }
+        }
+    }
+    Ok(jumps as f64 / pairs.max(1) as f64)
+}
+
+/// Render a surface (vertices, triangles) with a polyline on it to PNG bytes: the title lines of
+/// `opts` at the top, the axis triad (1, 2, 3) at the bottom left, a scale bar at the bottom
+/// right.
+pub fn render_png(
+    vertices: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    curve: &[[f64; 3]],
+    opts: &RenderOptions,
+) -> Result<Vec<u8>, GeometryError> {
+    validate(vertices, triangles, opts)?;
+    let (mut r, cam) = surface_raster(vertices, triangles, opts);
+    let (w, h) = (r.w, r.h);
+    let unit_px = SS as f64 * opts.width.min(opts.height) as f64 / 480.0;
     let bias = 0.01 * w as f64;
     let pc: Vec<[f64; 3]> = curve
         .iter()
@@ -446,26 +562,17 @@ pub fn render_png(
     for s in pc.windows(2) {
         r.line(s[0], s[1], 0.9 * SS as f64, CURVE, bias);
     }
-    // Axis triad in the lower-left corner: e1 red, e2 green, e3 blue, labelled 1, 2, 3.
-    let origin = [0.11 * w as f64, 0.955 * h as f64];
-    let len = 0.055 * w.min(h) as f64;
-    for (axis, color) in AXES.iter().enumerate() {
-        let mut e = [0.0; 3];
-        e[axis] = 1.0;
-        let tip = [
-            origin[0] + len * dot(e, cam.right),
-            origin[1] - len * dot(e, cam.up),
-        ];
-        r.line(
-            [origin[0], origin[1], f64::INFINITY],
-            [tip[0], tip[1], f64::INFINITY],
-            1.2 * SS as f64,
-            *color,
-            0.0,
-        );
-        let lx = origin[0] + 1.45 * len * dot(e, cam.right) - 3.0 * SS as f64;
-        let ly = origin[1] - 1.45 * len * dot(e, cam.up) - 5.0 * SS as f64;
-        digit(&mut r, axis, lx, ly, 2 * SS, *color);
+    // Title.
+    let mut y = 8.0 * unit_px;
+    for (k, line) in opts.title.iter().enumerate() {
+        let size = TITLE_SIZE[k.min(1)] * unit_px;
+        y += size + if k == 0 { 0.0 } else { 5.0 * unit_px };
+        let color = if k == 0 { [0.1; 3] } else { [0.3; 3] };
+        r.text(line, size, w as f64 / 2.0, y, color, Anchor::Middle);
+    }
+    triad(&mut r, &cam, unit_px);
+    if opts.scale_bar {
+        scale_bar(&mut r, &cam, unit_px);
     }
     // 2 × 2 box filter.
     let (ow, oh) = (opts.width as usize, opts.height as usize);
@@ -486,7 +593,138 @@ pub fn render_png(
             }
         }
     }
+    let _ = h;
     encode_png(&rgb, opts.width, opts.height)
+}
+
+/// The axis triad in the lower-left corner: e1 red, e2 green, e3 blue, each labelled with its
+/// number beyond its tip; an axis seen end-on is a circle with a dot (toward the viewer) or a
+/// cross (away). Labels are placed where they overlap no other label and stay in the picture.
+fn triad(r: &mut Raster, cam: &Camera, unit_px: f64) {
+    let len = 26.0 * unit_px;
+    let size = 14.0 * unit_px;
+    let origin = [len + 22.0 * unit_px, r.h as f64 - len - 20.0 * unit_px];
+    let mut boxes: Vec<[f64; 4]> = Vec::new();
+    for (axis, color) in AXES.iter().enumerate() {
+        let mut e = [0.0; 3];
+        e[axis] = 1.0;
+        let d = [dot(e, cam.right), -dot(e, cam.up)];
+        let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        if l > 0.25 {
+            let tip = [origin[0] + len * d[0], origin[1] + len * d[1]];
+            r.line(
+                [origin[0], origin[1], f64::INFINITY],
+                [tip[0], tip[1], f64::INFINITY],
+                1.2 * SS as f64,
+                *color,
+                0.0,
+            );
+        } else {
+            let toward = dot(e, cam.toward) > 0.0;
+            r.ring(origin, 5.0 * unit_px, 1.1 * SS as f64, *color);
+            if toward {
+                r.disc(origin, 1.8 * unit_px, *color);
+            } else {
+                let c = 3.2 * unit_px;
+                for s in [-1.0, 1.0] {
+                    r.line(
+                        [origin[0] - c, origin[1] - s * c, f64::INFINITY],
+                        [origin[0] + c, origin[1] + s * c, f64::INFINITY],
+                        0.9 * SS as f64,
+                        *color,
+                        0.0,
+                    );
+                }
+            }
+        }
+        // The label: beyond the tip along the axis, else the nearest free place around it.
+        let label = ["1", "2", "3"][axis];
+        let (tw, th) = (text::width(label, size as f32) as f64, 0.72 * size);
+        let base_angle = if l > 0.25 { d[1].atan2(d[0]) } else { -0.75 };
+        let reach = if l > 0.25 {
+            len * l + 11.0 * unit_px
+        } else {
+            13.0 * unit_px
+        };
+        let mut chosen = None;
+        'search: for step in 0..12 {
+            for sign in [1.0, -1.0] {
+                let a = base_angle + sign * step as f64 * 0.35;
+                let c = [origin[0] + reach * a.cos(), origin[1] + reach * a.sin()];
+                let b = [
+                    c[0] - tw / 2.0,
+                    c[1] - th / 2.0,
+                    c[0] + tw / 2.0,
+                    c[1] + th / 2.0,
+                ];
+                let inside = b[0] >= 0.0 && b[1] >= 0.0 && b[2] <= r.w as f64 && b[3] <= r.h as f64;
+                let free = boxes.iter().all(|o| {
+                    b[2] + 2.0 < o[0] || o[2] + 2.0 < b[0] || b[3] + 2.0 < o[1] || o[3] + 2.0 < b[1]
+                });
+                if inside && free {
+                    chosen = Some(b);
+                    break 'search;
+                }
+                if step == 0 {
+                    break;
+                }
+            }
+        }
+        let b = chosen.unwrap_or_else(|| {
+            let c = [
+                origin[0] + reach * base_angle.cos(),
+                origin[1] + reach * base_angle.sin(),
+            ];
+            [
+                c[0] - tw / 2.0,
+                c[1] - th / 2.0,
+                c[0] + tw / 2.0,
+                c[1] + th / 2.0,
+            ]
+        });
+        r.text(label, size, b[0], b[3], *color, Anchor::Start);
+        boxes.push(b);
+    }
+}
+
+/// A bar of a round length (1, 2 or 5 × 10ᵏ in the surface's units, about a fifth of the
+/// width) at the bottom right, with its length written above it.
+fn scale_bar(r: &mut Raster, cam: &Camera, unit_px: f64) {
+    let target = 0.2 * r.w as f64 / cam.scale;
+    if !(target.is_finite() && target > 0.0) {
+        return;
+    }
+    let mag = 10f64.powf(target.log10().floor());
+    let length = [5.0, 2.0, 1.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|l| *l <= target)
+        .unwrap_or(mag);
+    let px = length * cam.scale;
+    let x1 = r.w as f64 - 18.0 * unit_px;
+    let (x0, y) = (x1 - px, r.h as f64 - 22.0 * unit_px);
+    let ink = [0.2; 3];
+    let inf = f64::INFINITY;
+    r.line([x0, y, inf], [x1, y, inf], 1.0 * SS as f64, ink, 0.0);
+    for x in [x0, x1] {
+        r.line(
+            [x, y - 5.0 * unit_px, inf],
+            [x, y + 5.0 * unit_px, inf],
+            0.8 * SS as f64,
+            ink,
+            0.0,
+        );
+    }
+    let digits = (-length.log10().floor()).max(0.0) as usize;
+    let label = format!("{length:.digits$}");
+    r.text(
+        &label,
+        12.5 * unit_px,
+        (x0 + x1) / 2.0,
+        y - 8.0 * unit_px,
+        ink,
+        Anchor::Middle,
+    );
 }
 
 fn encode_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, GeometryError> {

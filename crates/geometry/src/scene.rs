@@ -1,6 +1,7 @@
 //! An MCAP scene of Poinsot's picture: the P-surface fixed in the body frame (which the
 //! `/tf` transform world → body rotates by Q) and the Π-surface fixed in the world frame, each
-//! logged once as a `foxglove.SceneUpdate` triangle list; then the moving hodograph ω(t) drawn
+//! logged as a `foxglove.SceneUpdate` triangle list at the start (and once more 0.2 s later,
+//! see [`SURFACES_AGAIN_NS`]); then the moving hodograph ω(t) drawn
 //! incrementally in the body frame — it rolls with the P-surface — while the fixed hodograph
 //! Ω(t) = Qω traces the Π-surface. At every instant the body-frame point ω, carried to the world
 //! by Q, is the world point Ω: the P-surface touches the Π-surface there.
@@ -124,6 +125,14 @@ impl Writer {
 /// Points of the hodographs per SceneUpdate (one LINE_STRIP entity per batch).
 pub const BATCH: usize = 8;
 
+/// The surfaces are logged at the start and once more this long after it (when the motion is
+/// that long). Foxglove Studio 1.x reads the first 99 ms of a file before its 3-D panels have
+/// subscribed to their topics when they subscribe while the file loads, and then never delivers
+/// those messages until the user seeks: the surfaces, logged once at the start, were missing
+/// in about half the openings (seen with `scripts/check_viewer.sh`). The second copy arrives
+/// during playback.
+pub const SURFACES_AGAIN_NS: u64 = 200_000_000;
+
 /// Write the scene of one torus and a stretch of its motion to `path`, whole or not at all (a
 /// temporary beside it is renamed into place at the end).
 pub fn write_scene(
@@ -168,28 +177,25 @@ pub fn write_scene(
     let p_color = [0.95, 0.62, 0.32, 0.55];
     let pi_color = [0.42, 0.62, 0.92, 0.45];
     let t0 = time_to_ns(motion.t.first().copied().unwrap_or(0.0)).map_err(mcap_err)?;
-    out.put(
-        sp,
-        t0,
-        &surface_update(
-            &mesh.omega,
-            &mesh.triangles,
-            topics::FRAME_BODY,
-            "p_surface",
-            p_color,
-        ),
-    )?;
-    out.put(
-        spi,
-        t0,
-        &surface_update(
-            &mesh.omega_fixed,
-            &mesh.triangles,
-            topics::FRAME_WORLD,
-            "pi_surface",
-            pi_color,
-        ),
-    )?;
+    let p_surface = surface_update(
+        &mesh.omega,
+        &mesh.triangles,
+        topics::FRAME_BODY,
+        "p_surface",
+        p_color,
+    );
+    let pi_surface = surface_update(
+        &mesh.omega_fixed,
+        &mesh.triangles,
+        topics::FRAME_WORLD,
+        "pi_surface",
+        pi_color,
+    );
+    out.put(sp, t0, &p_surface)?;
+    out.put(spi, t0, &pi_surface)?;
+    // Sent again (same entity ids: a replacement, nothing changes on screen) once the motion
+    // passes t0 + SURFACES_AGAIN_NS: see SURFACES_AGAIN_NS.
+    let mut again = Some(t0 + SURFACES_AGAIN_NS);
     let curve_color = |rgb: [f64; 3]| json!({"r": rgb[0], "g": rgb[1], "b": rgb[2], "a": 1.0});
     let n = motion.t.len();
     let mut start = 0;
@@ -204,6 +210,11 @@ pub fn write_scene(
             "rotation": Quaternion::from_orientation(&motion.q[i]),
         });
         out.put(tf, ns, &tf_msg)?;
+        if again.is_some_and(|at| ns >= at) {
+            out.put(sp, ns, &p_surface)?;
+            out.put(spi, ns, &pi_surface)?;
+            again = None;
+        }
         if i - start < BATCH && i + 1 < n {
             continue;
         }

@@ -398,7 +398,8 @@ fn summarize_bytes(path: &Path, buf: &[u8]) -> Summary {
         };
         let t = ns_to_s(m.log_time);
         for (field, leaf) in flatten(&v) {
-            if field == "t" {
+            // log10_… fields are derived from the others (for plots): their |maximum| means nothing.
+            if field == "t" || field.starts_with("log10_") {
                 continue;
             }
             let idx = match maxima.iter().position(|f| f.field == field) {

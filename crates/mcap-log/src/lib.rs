@@ -11,6 +11,7 @@
 //! Time convention: a sample at motion time `t` seconds is logged with
 //! `log_time = publish_time = round(t · 10⁹)` nanoseconds (see [`time_to_ns`]).
 
+pub mod compat;
 pub mod demo;
 mod framing;
 pub mod inspect;

@@ -103,7 +103,9 @@ pub struct BodyState {
     pub g: f64,
 }
 
-/// Errors of the integrated motion against the exact one, as computed by the harness.
+/// Errors of the integrated motion against the exact one, as computed by the harness. Each
+/// field is logged on `/errors` with a companion `log10_<field>` = log10 |value| (left out
+/// where the value is 0 or not finite); the fields are listed in [`schemas::ERROR_FIELDS`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ErrorSample {
     pub state_error: f64,
@@ -352,6 +354,14 @@ impl TrajectoryLog {
             .library(format!("rsts-mcap/{}", env!("CARGO_PKG_VERSION")));
         let mut w = opts.create(file)?;
 
+        // The metadata record goes first, before any schema or channel: a Metadata record
+        // closes the open chunk, and a chunk holding only schemas and channels has no message
+        // index, which @mcap/core 2.1.0 (Foxglove Studio 1.x) rejects; today's 2.2.2 reads it.
+        // Schemas and channels then share the first chunk with the first messages.
+        w.write_metadata(&mcap::records::Metadata {
+            name: topics::METADATA_RECORD_NAME.into(),
+            metadata: metadata.to_record_map(),
+        })?;
         let tf_s = w.add_schema(
             schemas::FRAME_TRANSFORM_NAME,
             "jsonschema",
@@ -420,11 +430,6 @@ impl TrajectoryLog {
                 false,
             )?,
         ];
-        w.write_metadata(&mcap::records::Metadata {
-            name: topics::METADATA_RECORD_NAME.into(),
-            metadata: metadata.to_record_map(),
-        })?;
-
         let mut log = TrajectoryLog {
             writer: Some(w),
             failed: None,
@@ -495,7 +500,7 @@ impl TrajectoryLog {
     /// Logs one sample (log and publish time = round(t · 10⁹) ns). Samples must come in
     /// non-decreasing `t`. Writes, for each motion present: a `FrameTransform` on `/tf`, its
     /// state on `/exact/state` or `/integrated/state`, one new segment of each hodograph;
-    /// and the errors on `/errors` when present.
+    /// and the errors with their `log10_…` companions on `/errors` when present.
     pub fn log_sample(&mut self, sample: &Sample) -> Result<(), LogError> {
         if self.writer.is_none() {
             return Err(LogError::Finished);
@@ -554,6 +559,16 @@ impl TrajectoryLog {
         if let Some(e) = &sample.errors {
             let mut v = serde_json::to_value(e)?;
             if let Value::Object(m) = &mut v {
+                // log10 |x| beside every error and drift, where it is defined.
+                let logs: Vec<(String, Value)> = m
+                    .iter()
+                    .filter_map(|(name, x)| {
+                        let a = x.as_f64()?.abs();
+                        (a.is_finite() && a > 0.0)
+                            .then(|| (schemas::log10_field(name), json!(a.log10())))
+                    })
+                    .collect();
+                m.extend(logs);
                 m.insert("t".into(), json!(sample.t));
             }
             self.write_json(self.ch.errors, ns, &v)?;

@@ -1,7 +1,6 @@
 //! The independent reader: `scripts/check_mcap.py` (official Python `mcap` package) on a
 //! file written here. Runs with `$RSTS_PYTHON` or `python3`; when neither the interpreter
-//! nor its `mcap` package is available the script's `--optional` mode prints "skipped" and
-//! this test only checks that the script ran.
+//! nor its `mcap` package is available the test reports itself skipped (`rsts_io::report_skip`).
 
 mod common;
 
@@ -31,15 +30,20 @@ fn python_mcap_reads_the_log() {
     let out = match run(n) {
         Ok(o) => o,
         Err(e) => {
-            eprintln!("skipped: cannot run {python}: {e}");
-            return;
+            return rsts_io::report_skip(
+                "python_mcap_reads_the_log",
+                &format!("cannot run {python}: {e}"),
+            )
         }
     };
     let stdout = String::from_utf8_lossy(&out.stdout);
     eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
     assert!(out.status.success(), "check_mcap.py failed");
     if stdout.contains("skipped: python mcap not installed") {
-        return;
+        return rsts_io::report_skip(
+            "python_mcap_reads_the_log",
+            &format!("the python `mcap` package is not installed for {python} (set RSTS_PYTHON)"),
+        );
     }
     assert!(stdout.contains("OK: read by the Python mcap library"));
     // The script really checks: a wrong expectation fails.

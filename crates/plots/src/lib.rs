@@ -17,7 +17,11 @@
 //! assert!(svg.starts_with("<svg"));
 //! ```
 
+mod axis;
+
 use std::fmt::Write;
+
+use axis::Label;
 
 /// Axis scale.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -46,6 +50,8 @@ pub struct Series {
     pub color: Option<String>,
     /// Dashed line (e.g. for a peer's series).
     pub dashed: bool,
+    /// A short text beside each point (e.g. the tolerance it was run at); empty: none.
+    pub point_labels: Vec<String>,
 }
 
 impl Series {
@@ -56,7 +62,14 @@ impl Series {
             style,
             color: None,
             dashed: false,
+            point_labels: Vec::new(),
         }
+    }
+
+    /// The same series with `labels[k]` written beside point k.
+    pub fn with_point_labels(mut self, labels: Vec<String>) -> Self {
+        self.point_labels = labels;
+        self
     }
 }
 
@@ -117,93 +130,158 @@ fn forward(scale: Scale, v: f64) -> Option<f64> {
     }
 }
 
-/// Tick positions (in transformed units) and their labels.
-fn ticks(scale: Scale, lo: f64, hi: f64) -> Vec<(f64, String)> {
-    match scale {
-        Scale::Log10 => {
-            let (a, b) = (lo.floor() as i32, hi.ceil() as i32);
-            let step = ((b - a) as f64 / 8.0).ceil().max(1.0) as i32;
-            (a..=b)
-                .filter(|k| k.rem_euclid(step) == 0)
-                .filter(|&k| (k as f64) >= lo - 1e-9 && (k as f64) <= hi + 1e-9)
-                .map(|k| (k as f64, format!("1e{k}")))
-                .collect()
-        }
-        Scale::Linear => {
-            let span = (hi - lo).max(f64::MIN_POSITIVE);
-            let raw = span / 6.0;
-            let mag = 10f64.powf(raw.log10().floor());
-            let step = [1.0, 2.0, 5.0, 10.0]
-                .iter()
-                .map(|m| m * mag)
-                .find(|s| *s >= raw)
-                .unwrap_or(10.0 * mag);
-            let first = (lo / step).ceil() as i64;
-            let last = (hi / step).floor() as i64;
-            (first..=last)
-                .map(|k| {
-                    let v = k as f64 * step;
-                    let label = if (1e-3..1e5).contains(&step.abs()) {
-                        let decimals = (-step.log10().floor()).max(0.0) as usize;
-                        format!("{v:.decimals$}")
-                    } else {
-                        format!("{v:.0e}")
-                    };
-                    (v, label)
-                })
-                .collect()
+/// SVG text of a tick label: `10` with the exponent raised, `2×10⁻⁶`, or plain.
+fn label_svg(label: &Label) -> String {
+    match label {
+        Label::Plain(s) => escape(s),
+        Label::Power { mantissa, exponent } => {
+            let m = mantissa.as_ref().map_or(String::new(), |m| format!("{m}×"));
+            match exponent {
+                0 if m.is_empty() => "1".into(),
+                1 if m.is_empty() => "10".into(),
+                e => format!(
+                    r#"{m}10<tspan dy="-5" font-size="9">{}</tspan>"#,
+                    e.to_string().replace('-', "−")
+                ),
+            }
         }
     }
 }
 
-/// Range of the transformed values, padded; a single value gets a unit-wide range.
-fn range(values: impl Iterator<Item = f64>, scale: Scale) -> Option<(f64, f64)> {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for v in values {
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    if !lo.is_finite() {
-        return None;
-    }
-    if hi - lo < 1e-12 * lo.abs().max(1.0) {
-        let half = if scale == Scale::Log10 {
-            0.5
-        } else {
-            0.5 * lo.abs().max(1.0)
+/// An axis-aligned box (x0, y0, x1, y1) in px.
+type Rect = (f64, f64, f64, f64);
+
+fn overlap(a: Rect, b: Rect) -> f64 {
+    let w = (a.2.min(b.2) - a.0.max(b.0)).max(0.0);
+    let h = (a.3.min(b.3) - a.1.max(b.1)).max(0.0);
+    w * h
+}
+
+/// Positions of the point labels: beside each marker, where the label covers no other label, no
+/// marker and stays inside the plot (the least covered place when none is free).
+/// `points`: (x, y, text width) per label; returns (x, y, text-anchor) per label.
+fn place_labels(points: &[(f64, f64, f64)], plot: Rect) -> Vec<(f64, f64, &'static str)> {
+    const H: f64 = 10.0;
+    let markers: Vec<Rect> = points
+        .iter()
+        .map(|&(x, y, _)| (x - 4.0, y - 4.0, x + 4.0, y + 4.0))
+        .collect();
+    let mut placed: Vec<Rect> = Vec::new();
+    let mut out = Vec::new();
+    for &(x, y, w) in points {
+        // (dx, dy of the baseline, anchor): right, left, above, below, the diagonals.
+        let candidates = [
+            (7.0, 4.0, "start"),
+            (-7.0, 4.0, "end"),
+            (0.0, -8.0, "middle"),
+            (0.0, 16.0, "middle"),
+            (6.0, -6.0, "start"),
+            (6.0, 15.0, "start"),
+            (-6.0, -6.0, "end"),
+            (-6.0, 15.0, "end"),
+        ];
+        let rect = |(dx, dy, anchor): (f64, f64, &str)| {
+            let x0 = match anchor {
+                "start" => x + dx,
+                "end" => x + dx - w,
+                _ => x + dx - w / 2.0,
+            };
+            (x0, y + dy - H + 1.0, x0 + w, y + dy + 2.0)
         };
-        return Some((lo - half, hi + half));
+        let cost = |c: (f64, f64, &str)| {
+            let r = rect(c);
+            let outside = if r.0 < plot.0 || r.2 > plot.2 || r.1 < plot.1 || r.3 > plot.3 {
+                1e6
+            } else {
+                0.0
+            };
+            let covered: f64 = placed.iter().chain(&markers).map(|p| overlap(r, *p)).sum();
+            outside + covered
+        };
+        let best = candidates
+            .iter()
+            .copied()
+            .min_by(|a, b| cost(*a).total_cmp(&cost(*b)))
+            .unwrap();
+        placed.push(rect(best));
+        out.push((x + best.0, y + best.1, best.2));
     }
-    let pad = 0.04 * (hi - lo);
-    Some((lo - pad, hi + pad))
+    out
 }
 
-/// Render the chart as a standalone SVG document.
+/// Render the chart as a standalone SVG document: the plot frame with its grid, ticks labelled on
+/// both axes, the series (and their point labels), and the legend to the right of the frame,
+/// clear of the data.
 pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
     if chart.width < 200 || chart.height < 150 {
         return Err(PlotError::TooSmall(chart.width, chart.height));
     }
-    let pts: Vec<Vec<(f64, f64)>> = chart
+    let pts: Vec<Vec<(f64, f64, Option<&str>)>> = chart
         .series
         .iter()
         .map(|s| {
             s.points
                 .iter()
-                .filter_map(|&(x, y)| {
-                    Some((forward(chart.x_scale, x)?, forward(chart.y_scale, y)?))
+                .enumerate()
+                .filter_map(|(k, &(x, y))| {
+                    Some((
+                        forward(chart.x_scale, x)?,
+                        forward(chart.y_scale, y)?,
+                        s.point_labels.get(k).map(String::as_str),
+                    ))
                 })
                 .collect()
         })
         .collect();
-    let (x0, x1) =
-        range(pts.iter().flatten().map(|p| p.0), chart.x_scale).ok_or(PlotError::Empty)?;
-    let (y0, y1) =
-        range(pts.iter().flatten().map(|p| p.1), chart.y_scale).ok_or(PlotError::Empty)?;
+    let extent = |values: Vec<f64>| -> Option<(f64, f64)> {
+        let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        lo.is_finite().then_some((lo, hi))
+    };
+    let (x0, x1) = extent(pts.iter().flatten().map(|p| p.0).collect()).ok_or(PlotError::Empty)?;
+    let (y0, y1) = extent(pts.iter().flatten().map(|p| p.1).collect()).ok_or(PlotError::Empty)?;
+    let (x0, x1) = axis::range(x0, x1, chart.x_scale);
+    let (y0, y1) = axis::range(y0, y1, chart.y_scale);
     let (w, h) = (chart.width as f64, chart.height as f64);
-    let (left, right, top, bottom) = (78.0, 20.0, 44.0, 58.0);
+    // The legend: a column right of the frame.
+    let legend: Vec<(&str, String, bool)> = chart
+        .series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.label.is_empty())
+        .map(|(k, s)| {
+            let color = s
+                .color
+                .clone()
+                .unwrap_or_else(|| PALETTE[k % PALETTE.len()].to_string());
+            (s.label.as_str(), color, s.dashed)
+        })
+        .collect();
+    let legend_w = if legend.is_empty() {
+        0.0
+    } else {
+        40.0 + 6.7
+            * legend
+                .iter()
+                .map(|l| l.0.chars().count())
+                .max()
+                .unwrap_or(0) as f64
+    };
+    let (left, top, bottom) = (84.0, 44.0, 58.0);
+    let right = 20.0
+        + if legend.is_empty() {
+            0.0
+        } else {
+            legend_w + 14.0
+        };
     let (pw, ph) = (w - left - right, h - top - bottom);
+    if pw < 80.0 || ph < 60.0 {
+        return Err(PlotError::TooSmall(chart.width, chart.height));
+    }
     let sx = |x: f64| left + (x - x0) / (x1 - x0) * pw;
     let sy = |y: f64| top + ph - (y - y0) / (y1 - y0) * ph;
+    let xt = axis::ticks(chart.x_scale, x0, x1, pw, 58.0);
+    let yt = axis::ticks(chart.y_scale, y0, y1, ph, 22.0);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -212,30 +290,50 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
     let _ = writeln!(s, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
     let _ = writeln!(
         s,
-        r#"<text x="{}" y="26" text-anchor="middle" font-size="15" font-weight="bold">{}</text>"#,
-        w / 2.0,
+        r#"<text x="{:.1}" y="26" text-anchor="middle" font-size="15" font-weight="bold">{}</text>"#,
+        left + pw / 2.0,
         escape(&chart.title)
     );
-    // Grid and ticks.
+    // Grid at the major ticks; short marks at all ticks.
     let _ = writeln!(s, r##"<g stroke="#e3e3e3" stroke-width="1">"##);
-    let xt = ticks(chart.x_scale, x0, x1);
-    let yt = ticks(chart.y_scale, y0, y1);
-    for (v, _) in &xt {
+    for t in xt.iter().filter(|t| t.major) {
         let _ = writeln!(
             s,
             r#"<line x1="{0:.1}" y1="{1:.1}" x2="{0:.1}" y2="{2:.1}"/>"#,
-            sx(*v),
+            sx(t.at),
             top,
             top + ph
         );
     }
-    for (v, _) in &yt {
+    for t in yt.iter().filter(|t| t.major) {
         let _ = writeln!(
             s,
             r#"<line x1="{1:.1}" y1="{0:.1}" x2="{2:.1}" y2="{0:.1}"/>"#,
-            sy(*v),
+            sy(t.at),
             left,
             left + pw
+        );
+    }
+    let _ = writeln!(s, "</g>");
+    let _ = writeln!(s, r##"<g stroke="#444" stroke-width="1">"##);
+    for t in &xt {
+        let len = if t.major { 6.0 } else { 3.5 };
+        let _ = writeln!(
+            s,
+            r#"<line x1="{0:.1}" y1="{1:.1}" x2="{0:.1}" y2="{2:.1}"/>"#,
+            sx(t.at),
+            top + ph,
+            top + ph - len
+        );
+    }
+    for t in &yt {
+        let len = if t.major { 6.0 } else { 3.5 };
+        let _ = writeln!(
+            s,
+            r#"<line x1="{1:.1}" y1="{0:.1}" x2="{2:.1}" y2="{0:.1}"/>"#,
+            sy(t.at),
+            left,
+            left + len
         );
     }
     let _ = writeln!(s, "</g>");
@@ -243,29 +341,35 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
         s,
         r##"<rect x="{left}" y="{top}" width="{pw}" height="{ph}" fill="none" stroke="#444"/>"##
     );
-    for (v, label) in &xt {
-        let _ = writeln!(
-            s,
-            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
-            sx(*v),
-            top + ph + 18.0,
-            escape(label)
-        );
+    for t in &xt {
+        if let Some(label) = &t.label {
+            let _ = writeln!(
+                s,
+                r#"<text class="tick x" data-v="{}" x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+                t.value,
+                sx(t.at),
+                top + ph + 19.0,
+                label_svg(label)
+            );
+        }
     }
-    for (v, label) in &yt {
-        let _ = writeln!(
-            s,
-            r#"<text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"#,
-            left - 6.0,
-            sy(*v) + 4.0,
-            escape(label)
-        );
+    for t in &yt {
+        if let Some(label) = &t.label {
+            let _ = writeln!(
+                s,
+                r#"<text class="tick y" data-v="{}" x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"#,
+                t.value,
+                left - 7.0,
+                sy(t.at) + 4.0,
+                label_svg(label)
+            );
+        }
     }
     let _ = writeln!(
         s,
         r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
         left + pw / 2.0,
-        h - 16.0,
+        h - 14.0,
         escape(&chart.x_label)
     );
     let _ = writeln!(
@@ -275,7 +379,7 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
         escape(&chart.y_label)
     );
     // Series.
-    let mut legend = Vec::new();
+    let mut labels: Vec<(f64, f64, f64, String, String)> = Vec::new();
     for (k, (series, p)) in chart.series.iter().zip(&pts).enumerate() {
         let color = series
             .color
@@ -294,7 +398,7 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
         if matches!(series.style, Style::Line | Style::LineMarkers) && p.len() > 1 {
             let path: Vec<String> = p
                 .iter()
-                .map(|&(x, y)| format!("{:.2},{:.2}", sx(x), sy(y)))
+                .map(|&(x, y, _)| format!("{:.2},{:.2}", sx(x), sy(y)))
                 .collect();
             let _ = writeln!(
                 s,
@@ -303,7 +407,7 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
             );
         }
         if matches!(series.style, Style::Markers | Style::LineMarkers) || p.len() == 1 {
-            for &(x, y) in p {
+            for &(x, y, _) in p {
                 let _ = writeln!(
                     s,
                     r#"<circle cx="{:.2}" cy="{:.2}" r="3.2" fill="{color}"/>"#,
@@ -313,27 +417,38 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
             }
         }
         let _ = writeln!(s, "</g>");
-        if !series.label.is_empty() {
-            legend.push((series.label.clone(), color, series.dashed));
+        for &(x, y, text) in p {
+            if let Some(text) = text.filter(|t| !t.is_empty()) {
+                let width = 5.6 * text.chars().count() as f64;
+                labels.push((sx(x), sy(y), width, text.to_string(), color.clone()));
+            }
         }
     }
-    if !legend.is_empty() {
-        let lw = 26.0
-            + 7.0
-                * legend
-                    .iter()
-                    .map(|l| l.0.chars().count())
-                    .max()
-                    .unwrap_or(0) as f64;
-        let lx = left + pw - lw - 8.0;
+    if !labels.is_empty() {
+        let at: Vec<(f64, f64, f64)> = labels.iter().map(|l| (l.0, l.1, l.2)).collect();
+        let places = place_labels(&at, (left, top, left + pw, top + ph));
         let _ = writeln!(
             s,
-            r##"<rect x="{lx:.1}" y="{:.1}" width="{lw:.1}" height="{:.1}" fill="white" fill-opacity="0.85" stroke="#bbb"/>"##,
-            top + 8.0,
-            8.0 + 16.0 * legend.len() as f64
+            r#"<g class="point-labels" font-size="10" stroke="white" stroke-width="3" paint-order="stroke">"#
+        );
+        for ((_, _, _, text, color), (x, y, anchor)) in labels.iter().zip(places) {
+            let _ = writeln!(
+                s,
+                r#"<text x="{x:.1}" y="{y:.1}" text-anchor="{anchor}" fill="{color}">{}</text>"#,
+                escape(text)
+            );
+        }
+        let _ = writeln!(s, "</g>");
+    }
+    if !legend.is_empty() {
+        let lx = left + pw + 14.0;
+        let _ = writeln!(
+            s,
+            r##"<g class="legend"><rect x="{lx:.1}" y="{top:.1}" width="{legend_w:.1}" height="{:.1}" fill="white" stroke="#bbb"/>"##,
+            10.0 + 18.0 * legend.len() as f64
         );
         for (i, (label, color, dashed)) in legend.iter().enumerate() {
-            let y = top + 20.0 + 16.0 * i as f64;
+            let y = top + 15.0 + 18.0 * i as f64;
             let dash = if *dashed {
                 r#" stroke-dasharray="6 4""#
             } else {
@@ -342,17 +457,18 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
             let _ = writeln!(
                 s,
                 r#"<line x1="{:.1}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="{color}" stroke-width="2.5"{dash}/>"#,
-                lx + 5.0,
-                lx + 21.0
+                lx + 7.0,
+                lx + 29.0
             );
             let _ = writeln!(
                 s,
                 r#"<text x="{:.1}" y="{:.1}">{}</text>"#,
-                lx + 25.0,
+                lx + 34.0,
                 y + 4.0,
                 escape(label)
             );
         }
+        let _ = writeln!(s, "</g>");
     }
     s.push_str("</svg>\n");
     Ok(s)
@@ -374,8 +490,26 @@ mod tests {
         }
     }
 
+    /// The values of an attribute over the elements that carry `marker`.
+    fn attrs(svg: &str, marker: &str, key: &str) -> Vec<String> {
+        svg.lines()
+            .filter(|l| l.contains(marker))
+            .filter_map(|l| {
+                let rest = l.split(&format!(r#" {key}=""#)).nth(1)?;
+                Some(rest.split('"').next()?.to_string())
+            })
+            .collect()
+    }
+
+    fn num(svg: &str, marker: &str, key: &str) -> Vec<f64> {
+        attrs(svg, marker, key)
+            .iter()
+            .map(|v| v.parse().unwrap())
+            .collect()
+    }
+
     #[test]
-    fn log_axes_get_decade_ticks_and_points_land_inside_the_frame() {
+    fn log_axes_are_labelled_every_decade_and_points_land_inside_the_frame() {
         let c = chart(
             vec![Series::new(
                 "a&b",
@@ -387,18 +521,82 @@ mod tests {
         );
         let svg = render_svg(&c).unwrap();
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
-        assert!(
-            svg.contains(">1e-6<") && svg.contains(">1e-2<"),
-            "decade labels"
-        );
+        let x: Vec<String> = attrs(&svg, r#"class="tick x""#, "data-v");
+        let want: Vec<String> = (-12..=-3).map(|k| format!("1e{k}")).collect();
+        assert_eq!(x, want, "a label at every decade of the x axis");
+        let y = attrs(&svg, r#"class="tick y""#, "data-v");
+        assert_eq!(y, ["1e-4", "1e-3", "1e-2", "1e-1", "1e0"]);
+        assert!(svg.contains(r#"10<tspan dy="-5" font-size="9">−6</tspan>"#));
         assert!(
             svg.contains("a&amp;b") && svg.contains("t &lt;1&gt;"),
             "text is escaped"
         );
-        assert_eq!(svg.matches("<circle").count(), 3);
-        for cap in svg.split("<circle cx=\"").skip(1) {
-            let x: f64 = cap.split('"').next().unwrap().parse().unwrap();
-            assert!((78.0..=740.0).contains(&x), "{x}");
+        let (fx, fw) = (
+            num(&svg, r##"fill="none" stroke="#444""##, "x")[0],
+            num(&svg, r##"fill="none" stroke="#444""##, "width")[0],
+        );
+        let cx = num(&svg, "<circle", "cx");
+        assert_eq!(cx.len(), 3);
+        assert!(cx.iter().all(|x| *x > fx && *x < fx + fw), "{cx:?}");
+    }
+
+    #[test]
+    fn the_legend_is_right_of_the_frame_and_point_labels_do_not_collide() {
+        // Two series with points close together, each point labelled with its tolerance.
+        let tolerances = ["1e-6", "1e-8", "1e-10", "1e-12"];
+        let mk = |name: &str, shift: f64| {
+            Series::new(
+                name,
+                (0..4)
+                    .map(|k| {
+                        (
+                            10f64.powi(-6 - 2 * k) * shift,
+                            1e-3 * (k + 1) as f64 * shift,
+                        )
+                    })
+                    .collect(),
+                Style::LineMarkers,
+            )
+            .with_point_labels(tolerances.iter().map(|t| t.to_string()).collect())
+        };
+        let c = chart(
+            vec![mk("dop853", 1.0), mk("a much longer name", 1.15)],
+            Scale::Log10,
+            Scale::Log10,
+        );
+        let svg = render_svg(&c).unwrap();
+        let frame_right = num(&svg, r##"fill="none" stroke="#444""##, "x")[0]
+            + num(&svg, r##"fill="none" stroke="#444""##, "width")[0];
+        let legend_x = num(&svg, r#"<g class="legend"><rect"#, "x")[0];
+        assert!(legend_x > frame_right, "{legend_x} {frame_right}");
+        let legend_right = legend_x + num(&svg, r#"<g class="legend"><rect"#, "width")[0];
+        assert!(legend_right <= c.width as f64, "{legend_right}");
+        // Every point has its label, and no two label boxes overlap.
+        let block = svg.split(r#"<g class="point-labels""#).nth(1).unwrap();
+        let block = block.split("</g>").next().unwrap();
+        let boxes: Vec<Rect> = block
+            .lines()
+            .filter(|l| l.starts_with("<text"))
+            .map(|l| {
+                let get = |k: &str| num(l, "<text", k)[0];
+                let text = l.split('>').nth(1).unwrap().split('<').next().unwrap();
+                let w = 5.6 * text.chars().count() as f64;
+                let x0 = match attrs(l, "<text", "text-anchor")[0].as_str() {
+                    "start" => get("x"),
+                    "end" => get("x") - w,
+                    _ => get("x") - w / 2.0,
+                };
+                (x0, get("y") - 9.0, x0 + w, get("y") + 2.0)
+            })
+            .collect();
+        assert_eq!(boxes.len(), 8);
+        for (i, a) in boxes.iter().enumerate() {
+            for b in &boxes[i + 1..] {
+                assert_eq!(overlap(*a, *b), 0.0, "{a:?} {b:?}");
+            }
+        }
+        for t in tolerances {
+            assert_eq!(block.matches(&format!(">{t}<")).count(), 2, "{t}");
         }
     }
 
@@ -427,12 +625,5 @@ mod tests {
         let mut small = chart(vec![], Scale::Linear, Scale::Linear);
         small.width = 10;
         assert!(render_svg(&small).is_err());
-    }
-
-    #[test]
-    fn linear_ticks_are_round_numbers() {
-        let t = ticks(Scale::Linear, 0.0, 10.0);
-        let labels: Vec<&str> = t.iter().map(|x| x.1.as_str()).collect();
-        assert_eq!(labels, ["0", "2", "4", "6", "8", "10"]);
     }
 }

@@ -84,17 +84,19 @@ pub fn error_chart(case: &str, torus: usize, runs: &[&RunResult]) -> Chart {
 /// (the lowest torus of the case).
 pub fn work_precision_chart(case: &str, runs: &[&RunResult]) -> Option<Chart> {
     let torus = runs.iter().map(|r| r.torus).min()?;
-    let mut by_method: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+    // (max error, seconds, rtol) per method.
+    let mut by_method: BTreeMap<String, Vec<(f64, f64, Option<f64>)>> = BTreeMap::new();
     for r in runs.iter().filter(|r| r.torus == torus) {
         if let Some(f) = &r.figures {
             let key = match r.digits {
                 Some(d) => format!("{} ({d} digits)", r.method),
                 None => r.method.clone(),
             };
-            by_method
-                .entry(key)
-                .or_default()
-                .push((f.max_state_error, r.timing.integration_seconds));
+            by_method.entry(key).or_default().push((
+                f.max_state_error,
+                r.timing.integration_seconds,
+                r.rtol,
+            ));
         }
     }
     if !by_method.values().any(|v| v.len() >= 2) {
@@ -104,7 +106,17 @@ pub fn work_precision_chart(case: &str, runs: &[&RunResult]) -> Option<Chart> {
         .into_iter()
         .map(|(m, mut pts)| {
             pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-            Series::new(m, pts, Style::LineMarkers)
+            // Each point labelled with the tolerance it ran at.
+            let labels = pts
+                .iter()
+                .map(|p| p.2.map_or(String::new(), |t| format!("{t:e}")))
+                .collect();
+            Series::new(
+                m,
+                pts.iter().map(|p| (p.0, p.1)).collect(),
+                Style::LineMarkers,
+            )
+            .with_point_labels(labels)
         })
         .collect();
     Some(Chart {

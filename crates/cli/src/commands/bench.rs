@@ -476,6 +476,8 @@ fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::Result<Stri
     }
     for (s, mut p) in series.iter_mut().zip(points) {
         p.sort_by(|a, b| b.0.total_cmp(&a.0));
+        // Each point labelled with its tolerance.
+        s.point_labels = p.iter().map(|(tol, _, _)| format!("{tol:e}")).collect();
         s.points = p.into_iter().map(|(_, e, t)| (e, t)).collect();
     }
     assign_colours(&mut series);
@@ -488,7 +490,7 @@ fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::Result<Stri
             "max state error over {} samples (closed-form reference)",
             case.samples
         ),
-        y_label: format!("integration seconds (median of {repeats})"),
+        y_label: format!("integration seconds (median of {repeats}); points: tolerance"),
         x_scale: Scale::Log10,
         y_scale: Scale::Log10,
         series,

@@ -27,6 +27,7 @@ pub const EXAMPLES: &str = "\
 Examples:
   # a trajectory written by rsts integrate from the start of camera V's third torus
   # (rsts reference --m -0.7092 --h 1.5643 --torus 2 --times 0 prints that state)
+  mkdir -p out
   rsts integrate --omega=-1.0788400339538464,-0.3702277283006931,0 \\
       --alpha=-0.5266712206715436,-0.8500690709091504,0 --beta=-0.8500690709091504,0.5266712206715436,0 \\
       --t-end 20 --samples 201 --method dopri5 --rtol 1e-9 --atol 1e-9 --format csv > out/traj.csv

@@ -38,7 +38,8 @@ Examples:
   cargo build --release -p example-adapter-rk4
   rsts compare --exec target/release/example-adapter-rk4 --rtol 1e-10 --atol 1e-10 --t-end 20 --samples 201
 
-Open the MCAP file in Foxglove or Lichtblick (Open local file); see docs/mcap.md for the channels.
+Open the MCAP file in Foxglove or Lichtblick (Open local file) with the layout
+docs/foxglove/compare.json (Layouts > Import layout); see docs/mcap.md for the channels.
 The MCAP file appears only when complete (an existing file is replaced then, never damaged).
 Ctrl-C stops the run after the current piece and still writes a complete, readable MCAP file of
 what was compared (exit code 130); a second Ctrl-C exits at once and leaves any previous file.";
@@ -329,8 +330,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {
         eprintln!(
-            "MCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `target/release/rsts inspect {path}`.",
-            stats.samples, stats.messages
+            "MCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `{} inspect {path}`.",
+            stats.samples,
+            stats.messages,
+            crate::invocation::invocation()
         );
     }
     if !report.complete {

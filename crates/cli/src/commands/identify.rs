@@ -30,6 +30,7 @@ Examples:
       --alpha=-0.8092123863,0.4893823915,0.3250848946 --beta=0.1716166194,-0.3322951766,0.9274306721
 
   # a state off N: exit 1, and as JSON {\"on_N\": false, \"distance_from_N\": ...}
+  # exit: 1
   rsts identify --omega 0.3,-0.2,0.5 --alpha 1,0,0 --beta 0,1,0 --format json
 
   # the same state at 30 digits (from `rsts explicit ... --digits 30`)

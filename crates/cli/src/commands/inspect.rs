@@ -12,6 +12,9 @@ use rsts_mcap::inspect;
 /// Shown at the end of `rsts inspect --help`.
 pub const EXAMPLES: &str = "\
 Examples:
+  # a log to look at (rsts compare --help)
+  rsts compare --mcap out/compare.mcap
+
   # channels, schemas, message counts, time range, the case and the largest errors
   rsts inspect out/compare.mcap
 

@@ -24,11 +24,14 @@ Examples:
   # every torus of camera V (a = 1, b = 0.5): PLY, PNG and the MCAP scene in out/V
   rsts surfaces --m -0.7092 --h 1.5643 --out out/V
 
-  # one torus, the pictures of docs/geometry.md
-  rsts surfaces --a 1 --b 0.5 --m 0.3 --h -0.375 --torus 0 --out docs/img/I+ --no-mcap --no-ply
+  # one torus, only the pictures (those of docs/geometry.md: scripts/make_pictures.sh)
+  rsts surfaces --a 1 --b 0.5 --m 0.3 --h -0.375 --torus 0 --out out/I+ --no-mcap --no-ply
 
   # finer mesh, other view, longer hodograph
-  rsts surfaces --m -2.9877 --h 3.2858 --grid 128 --azimuth 60 --elevation 15 --periods 10 --out out/VI";
+  rsts surfaces --m -2.9877 --h 3.2858 --grid 128 --azimuth 60 --elevation 15 --periods 10 --out out/VI
+
+Open a scene torusK_scene.mcap in Foxglove or Lichtblick (Open local file) with the layout
+docs/foxglove/surfaces.json (Layouts > Import layout); see docs/mcap.md.";
 
 /// Largest `--grid` (PLY meshes and pictures) and `--scene-grid` (the MCAP scene, whose meshes
 /// are JSON: about 1 kB of memory per vertex while it is written).
@@ -185,7 +188,7 @@ pub fn run(args: Args, _out: &mut dyn Write) -> anyhow::Result<()> {
     }
     rsts_io::check_writable_dir(&args.out)
         .with_context(|| format!("--out {}", args.out.display()))?;
-    let view = |verts: &[[f64; 3]]| -> RenderOptions {
+    let view = |verts: &[[f64; 3]], title: Vec<String>| -> RenderOptions {
         let (az, el) = match (args.azimuth, args.elevation) {
             (None, None) => auto_view(verts),
             (az, el) => (az.unwrap_or(35.0), el.unwrap_or(25.0)),
@@ -195,8 +198,12 @@ pub fn run(args: Args, _out: &mut dyn Write) -> anyhow::Result<()> {
             height: args.size,
             azimuth_deg: az,
             elevation_deg: el,
+            title,
+            scale_bar: !args.normalize_axes,
         }
     };
+    // Numbers as in the paper: a true minus sign.
+    let num = |x: f64| format!("{x}").replace('-', "−");
     eprintln!(
         "camera {} (a = {}, b = {}, m = {}, h = {}), {} torus/tori",
         first.camera, args.fields.a, args.fields.b, args.m, args.h, first.tori
@@ -235,11 +242,32 @@ pub fn run(args: Args, _out: &mut dyn Write) -> anyhow::Result<()> {
                 let text = ply_text(verts, &mesh.triangles, Some(&mesh.angles), &comment);
                 written.push(write(format!("{stem}.ply"), text.as_bytes())?);
             }
+            let tori = match motion.tori {
+                1 => "1 torus".to_string(),
+                n => format!("{n} tori"),
+            };
+            let mut title = vec![
+                format!(
+                    "{}, camera {}",
+                    surface.title(),
+                    motion.camera.to_string().replace('-', "−")
+                ),
+                format!(
+                    "a = {}, b = {}, m = {}, h = {}, torus {k} ({tori})",
+                    num(args.fields.a),
+                    num(args.fields.b),
+                    num(args.m),
+                    num(args.h),
+                ),
+            ];
+            if args.normalize_axes {
+                title.push("each axis scaled to the same extent".into());
+            }
             let png = if args.normalize_axes {
                 let (v, c) = normalize_axes(verts, curve);
-                render_png(&v, &mesh.triangles, &c, &view(&v))?
+                render_png(&v, &mesh.triangles, &c, &view(&v, title))?
             } else {
-                render_png(verts, &mesh.triangles, curve, &view(verts))?
+                render_png(verts, &mesh.triangles, curve, &view(verts, title))?
             };
             written.push(write(format!("{stem}.png"), &png)?);
         }
