@@ -39,7 +39,8 @@ fn explicit_states(args: &[&str]) -> (Value, Vec<[String; 3]>) {
                 s[k].as_array()
                     .unwrap()
                     .iter()
-                    .map(|x| x.as_str().unwrap().to_string())
+                    // Decimal strings above f64's digits, numbers in f64.
+                    .map(|x| x.as_str().map_or_else(|| x.to_string(), str::to_string))
                     .collect::<Vec<_>>()
                     .join(",")
             })

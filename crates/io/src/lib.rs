@@ -131,13 +131,18 @@ pub fn check_writable(target: &Path) -> io::Result<()> {
         ));
     }
     let probe = temporary_beside(&existing.join("probe"))?;
-    File::options()
+    // Registered before it exists, so a Ctrl-C while it does removes it too.
+    register(&probe);
+    let created = File::options()
         .write(true)
         .create_new(true)
         .open(&probe)
-        .map_err(|e| context(e, format!("cannot write in {}", existing.display())))?;
-    let _ = fs::remove_file(&probe);
-    Ok(())
+        .map_err(|e| context(e, format!("cannot write in {}", existing.display())));
+    if created.is_ok() {
+        let _ = fs::remove_file(&probe);
+    }
+    unregister(&probe);
+    created.map(drop)
 }
 
 /// [`check_writable`] for a directory of outputs (`dir` itself may exist; files go inside it).
