@@ -19,6 +19,7 @@ import os
 import json
 import statistics
 import sys
+import tempfile
 import time
 from decimal import Decimal, getcontext
 
@@ -100,8 +101,17 @@ def cmd_make_reference(args):
         "times": times,
         "states": [[str(x) for x in row] for row in states],
     }
-    with open(args.out, "w") as f:
-        json.dump(out, f, indent=1)
+    # Written whole or not at all: a temporary beside the target, renamed over it at the end.
+    parent = os.path.dirname(os.path.abspath(args.out))
+    os.makedirs(parent, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=".ref.tmp-", dir=parent)
+    try:
+        with os.fdopen(fd, "w") as f:
+            json.dump(out, f, indent=1)
+        os.replace(tmp, args.out)
+    except BaseException:
+        os.unlink(tmp)
+        raise
 
 
 def main():
