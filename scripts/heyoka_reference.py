@@ -108,6 +108,9 @@ def cmd_make_reference(args):
     try:
         with os.fdopen(fd, "w") as f:
             json.dump(out, f, indent=1)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, args.out)
     except BaseException:
         os.unlink(tmp)

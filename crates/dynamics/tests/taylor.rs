@@ -394,16 +394,25 @@ fn compensated_summation_lowers_the_f64_error_floor() {
 
 /// Cross-check against an external reference trajectory (format `rsts-reference-1`, see
 /// scripts/heyoka_reference.py, which writes one with heyoka in MPFR):
-/// `RSTS_REFERENCE=ref.json cargo test -p rsts-dynamics --release --test taylor -- --ignored`.
+/// `RSTS_REFERENCE="$PWD/ref.json" cargo test --release --workspace --test taylor -- --ignored
+/// external_reference` (cargo runs the test in crates/dynamics, so a relative path is read from
+/// there; `--workspace` reuses the build of scripts/test.sh).
 /// Runs taylor-mp at 50 digits and taylor-f64 at 1e-15 from the file's initial state (parsed at
 /// 300 bits) and requires agreement to 1e-40 and 1e-13 at every sample.
 #[test]
 #[ignore = "needs RSTS_REFERENCE=<reference JSON file>"]
 fn external_reference_agrees() {
     let path = std::env::var("RSTS_REFERENCE").expect("set RSTS_REFERENCE to a reference file");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
-    assert_eq!(json["format"], "rsts-reference-1");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "RSTS_REFERENCE={path}: {e} (read from {}, where cargo runs this test: give an \
+             absolute path, e.g. \"$PWD/out/ref.json\")",
+            std::env::current_dir().unwrap().display()
+        )
+    });
+    let json: serde_json::Value = serde_json::from_str(&text)
+        .unwrap_or_else(|e| panic!("RSTS_REFERENCE={path}: not JSON: {e}"));
+    assert_eq!(json["format"], "rsts-reference-1", "{path}: not an rsts-reference-1 file");
     let num = |v: &serde_json::Value| -> Float {
         let s = v.as_str().expect("numbers are decimal strings");
         Float::with_val(CMP_BITS, Float::parse(s).unwrap())
