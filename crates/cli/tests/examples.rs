@@ -7,7 +7,8 @@
 //! a user to set it up; `target/` is this build's target directory and `cargo` builds this
 //! checkout, so `scripts/run.sh`, `target/release/rsts` and `cargo build --release -p rsts-cli`
 //! find the binary already built. Each document (a markdown file, a help text) starts from that
-//! fresh state and runs its commands in order, sharing what they write; a command that exits
+//! fresh state and runs its commands in order, sharing what they write (two documents at a time,
+//! each in its own copy; `RSTS_EXAMPLES_JOBS=1` runs one at a time); a command that exits
 //! non-zero, or that changes a tracked file, fails the test with the file, line and command.
 //!
 //! Markers, as comment lines inside a block:
@@ -36,8 +37,13 @@ use std::time::{Duration, Instant};
 const TOOLS: [&str; 5] = ["heyoka", "scipy", "node", "chromium", "slurm"];
 /// Virtual environments of optional tools, shared with the clone when the checkout has them.
 const VENVS: [&str; 2] = [".venv-adapters", ".venv-heyoka"];
-/// How long a `# takes:` command runs before it is stopped.
-const PROBE_SECONDS: u64 = 20;
+/// How long a `# takes:` command runs before it is stopped: long enough to get past argument
+/// checks, set-up and the first results (a wrong option or a missing file fails in well under a
+/// second).
+const PROBE_SECONDS: u64 = 8;
+/// Documents run side by side, each in its own copy of the checkout: at most this many at once
+/// (fewer on a machine with fewer cores); `RSTS_EXAMPLES_JOBS=1` runs them one after another.
+const MAX_JOBS: usize = 2;
 /// Longest time one document's examples may take together.
 const DOCUMENT_LIMIT: Duration = Duration::from_secs(900);
 
@@ -297,13 +303,14 @@ fn tool_available(tool: &str) -> bool {
             .is_ok_and(|s| s.success())
     };
     match tool {
-        "heyoka" => [".venv-adapters", ".venv-heyoka"].iter().any(|venv| {
+        // The Python packages live in the adapters' virtual environments
+        // (scripts/install_adapters.sh), which the documented commands use.
+        "heyoka" | "scipy" => VENVS.iter().any(|venv| {
             ok(
                 &repo().join(venv).join("bin/python").to_string_lossy(),
-                &["-c", "import heyoka"],
+                &["-c", &format!("import {tool}")],
             )
         }),
-        "scipy" => ok("python3", &["-c", "import scipy"]),
         "node" => ok("node", &["--version"]),
         "chromium" => ok("chromium", &["--version"]),
         "slurm" => ok("sbatch", &["--version"]),
@@ -342,8 +349,10 @@ struct Sandbox {
 }
 
 impl Sandbox {
-    fn new() -> Self {
-        let root = std::env::temp_dir().join(format!("rsts-examples-{}", std::process::id()));
+    /// The copy of worker `index` (each worker of the test has its own).
+    fn new(index: usize) -> Self {
+        let root =
+            std::env::temp_dir().join(format!("rsts-examples-{}-{index}", std::process::id()));
         let _ = fs::remove_dir_all(&root);
         let clone = root.join("clone");
         let mut files = BTreeMap::new();
@@ -610,10 +619,48 @@ fn every_documented_example_runs_as_written() {
     let (docs, mut failures) = documents();
     let total: usize = docs.iter().map(|d| d.examples.len()).sum();
     assert!(total > 20, "only {total} examples found");
-    let sandbox = Sandbox::new();
+    // The longest documents first (a `# takes:` probe costs PROBE_SECONDS, a command about a
+    // second), so that the workers finish together.
+    let mut queue: Vec<(usize, &Document)> = docs
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| !d.examples.is_empty())
+        .collect();
+    let cost = |d: &Document| {
+        d.examples
+            .iter()
+            .map(|e| if e.takes.is_some() { PROBE_SECONDS } else { 1 })
+            .sum::<u64>()
+    };
+    queue.sort_by_key(|(_, d)| cost(d));
+    let jobs = std::env::var("RSTS_EXAMPLES_JOBS")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+        .unwrap_or(MAX_JOBS)
+        .clamp(1, MAX_JOBS)
+        .min(std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let queue = std::sync::Mutex::new(queue);
+    let results = std::sync::Mutex::new(Vec::new());
+    std::thread::scope(|scope| {
+        for index in 0..jobs {
+            let (queue, results) = (&queue, &results);
+            scope.spawn(move || {
+                let sandbox = Sandbox::new(index);
+                loop {
+                    let Some((order, doc)) = queue.lock().unwrap().pop() else {
+                        break;
+                    };
+                    let outcome = run_document(doc, &sandbox, full);
+                    let changed = sandbox.reset();
+                    results.lock().unwrap().push((order, doc, outcome, changed));
+                }
+            });
+        }
+    });
+    let mut results = results.into_inner().unwrap();
+    results.sort_by_key(|(order, ..)| *order);
     let mut ran = 0;
-    for doc in docs.iter().filter(|d| !d.examples.is_empty()) {
-        let outcome = run_document(doc, &sandbox, full);
+    for (_, doc, outcome, changed) in results {
         ran += outcome.ran;
         failures.extend(outcome.failures);
         for (ex, missing) in outcome.skipped {
@@ -626,14 +673,14 @@ fn every_documented_example_runs_as_written() {
                 ),
             );
         }
-        for file in sandbox.reset() {
+        for file in changed {
             failures.push(format!(
                 "{}: its examples changed the tracked file {file} (examples write under out/)",
                 doc.source
             ));
         }
     }
-    eprintln!("examples: {ran} of {total} run");
+    eprintln!("examples: {ran} of {total} run ({jobs} at a time)");
     assert!(
         failures.is_empty(),
         "{} documented example(s) failed:\n\n{}",

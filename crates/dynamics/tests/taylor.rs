@@ -412,7 +412,10 @@ fn external_reference_agrees() {
     });
     let json: serde_json::Value = serde_json::from_str(&text)
         .unwrap_or_else(|e| panic!("RSTS_REFERENCE={path}: not JSON: {e}"));
-    assert_eq!(json["format"], "rsts-reference-1", "{path}: not an rsts-reference-1 file");
+    assert_eq!(
+        json["format"], "rsts-reference-1",
+        "{path}: not an rsts-reference-1 file"
+    );
     let num = |v: &serde_json::Value| -> Float {
         let s = v.as_str().expect("numbers are decimal strings");
         Float::with_val(CMP_BITS, Float::parse(s).unwrap())
