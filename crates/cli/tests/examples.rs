@@ -377,13 +377,22 @@ impl Sandbox {
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
         let shim = format!(
             r#"#!/usr/bin/env bash
-# cargo for the examples test: paths into the clone are the checkout's paths.
+# cargo for the examples test: paths into the clone are the checkout's paths, except under the
+# clone's out/, where examples make their own files (a scratch crate, say).
 clone='{clone}'
 repo='{repo}'
 args=()
-for a in "$@"; do args+=("${{a//"$clone"/"$repo"}}"); done
+for a in "$@"; do
+  case "$a" in
+    "$clone"/out/* | *="$clone"/out/*) args+=("$a") ;;
+    *) args+=("${{a//"$clone"/"$repo"}}") ;;
+  esac
+done
 case " ${{args[*]}} " in
   *" --manifest-path"*) exec "{cargo}" "${{args[@]}}" ;;
+esac
+case "$PWD/" in
+  "$clone"/out/*) exec "{cargo}" "${{args[@]}}" ;;
 esac
 exec "{cargo}" "${{args[0]}}" --manifest-path "$repo/Cargo.toml" "${{args[@]:1}}"
 "#,
