@@ -90,7 +90,9 @@ fn parse_block(lines: &[(usize, String)]) -> Result<Vec<Example>, String> {
                         TOOLS.join(", ")
                     ));
                 }
-                needs.push(tool.to_string());
+                if !needs.iter().any(|t| t == tool) {
+                    needs.push(tool.to_string());
+                }
             }
             continue;
         }
@@ -727,6 +729,11 @@ fn extraction_follows_blocks_markers_and_continuations() {
     assert_eq!(here[0].command, "python - <<'PY'\nimport x\n\nprint(1)\nPY");
     let remark = markdown_examples("```sh\n# needs: slurm, node (why)\nx\n```\n").unwrap();
     assert_eq!(remark[0].needs, ["slurm", "node"]);
+    let twice = markdown_examples("```sh\n# needs: scipy\na\n# needs: scipy\nb\n```\n").unwrap();
+    assert_eq!(
+        (&twice[0].needs[..], &twice[1].needs[..]),
+        (&["scipy".to_string()][..], &["scipy".to_string()][..])
+    );
     assert!(markdown_examples("```sh\n# needs: magic\nrsts x\n```\n")
         .unwrap_err()
         .contains("unknown tool `magic`"));
