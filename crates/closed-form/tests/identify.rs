@@ -325,6 +325,9 @@ fn bad_input_is_refused_with_the_reason() {
     assert!(input(identify(&0.5, &1.0, &state)).contains("a > b > 0"));
     assert!(input(identify(&1.0, &0.0, &state)).contains("a > b > 0"));
     assert!(input(identify(&f64::NAN, &0.5, &state)).contains("not a finite"));
+    // Outside the documented ranges of a and b/a: refused at once (a = 1e300 searched for minutes).
+    assert!(input(identify(&1e300, &0.5e300, &state)).contains("a = "));
+    assert!(input(identify(&1.0, &1e-300, &state)).contains("b/a"));
     let mut bad = state.clone();
     bad.alpha[0] *= 1.01;
     assert!(input(identify(&1.0, &0.5, &bad)).contains("|alpha|"));

@@ -193,7 +193,8 @@ fn separated_coordinates<T: Real>(
     best.expect("32 candidates").1
 }
 
-/// Check a, b and the state (finite, a > b > 0, |α| = |β| = 1 and α·β = 0 within 1e-9).
+/// Check a, b and the state (finite, a > b > 0 within the documented ranges of a and b/a,
+/// |α| = |β| = 1 and α·β = 0 within 1e-9).
 fn check_input<T: Real>(a: &T, b: &T, s: &State<T>) -> Result<(), IdentifyError> {
     for (name, v) in [("a", a), ("b", b)] {
         if !v.is_finite() {
@@ -209,6 +210,10 @@ fn check_input<T: Real>(a: &T, b: &T, s: &State<T>) -> Result<(), IdentifyError>
             b.to_f64()
         )));
     }
+    // The documented ranges of a and b/a, as for every other use of the closed form (beyond
+    // them the search for the torus ran for minutes: a = 1e300).
+    crate::constants::check_ranges(a, b, &a.zero_like(), &a.zero_like())
+        .map_err(|e| IdentifyError::Input(e.to_string()))?;
     s.validate()
         .map_err(|e| IdentifyError::Input(e.to_string()))
 }
@@ -217,7 +222,8 @@ fn check_input<T: Real>(a: &T, b: &T, s: &State<T>) -> Result<(), IdentifyError>
 /// distance from N and the residual of the closed form at what was found. Works in the precision
 /// of the inputs (f64, or `rug::Float` at any number of bits).
 ///
-/// Errors: [`IdentifyError::Input`] for non-finite numbers, a ≤ b or b ≤ 0, or a state off the
+/// Errors: [`IdentifyError::Input`] for non-finite numbers, a ≤ b or b ≤ 0, a or b/a outside
+/// the documented ranges ([`crate::check_ranges`]), or a state off the
 /// constraints |α| = |β| = 1, α·β = 0 (1e-9); [`IdentifyError::NoTorus`] when (m, h) is outside
 /// the admissible region or on Σ (with the distance from N: a state far from N lands anywhere).
 pub fn identify<T: Scalar>(a: &T, b: &T, s: &State<T>) -> Result<Identified<T>, IdentifyError> {
