@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use serde_json::Value;
 
 mod common;
-use common::{rsts, stderr, stdout, tmp};
+use common::{dir, entries, rsts, s, stderr, stdout};
 
 /// Limits of one run.
 #[derive(Clone, Copy, Default)]
@@ -131,26 +131,20 @@ fn code(out: &Output) -> Option<i32> {
     out.status.code()
 }
 
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// A fresh empty directory for one test.
-fn dir(name: &str) -> PathBuf {
-    let d = tmp(name);
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// The names in a directory, sorted.
-fn entries(d: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(d)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
+/// `d/c.mcap`: the log of a short comparison (T = 2, 5 samples), which must succeed.
+fn small_compare_log(d: &Path) -> PathBuf {
+    let mcap = d.join("c.mcap");
+    let out = rsts(&[
+        "compare",
+        "--t-end",
+        "2",
+        "--samples",
+        "5",
+        "--mcap",
+        s(&mcap),
+    ]);
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    mcap
 }
 
 /// No leftover temporaries (`.NAME.tmp-PID-N`) anywhere under `d`.
@@ -1075,19 +1069,7 @@ fn csv(out: &Output) -> Vec<Vec<String>> {
 #[test]
 fn d11_every_listed_csv_format_is_csv() {
     let d = dir("d11-csv");
-    let mcap = d.join("c.mcap");
-    assert_eq!(
-        code(&rsts(&[
-            "compare",
-            "--t-end",
-            "2",
-            "--samples",
-            "5",
-            "--mcap",
-            s(&mcap)
-        ])),
-        Some(0)
-    );
+    let mcap = small_compare_log(&d);
     for args in [
         vec![
             "compare",
@@ -1130,19 +1112,7 @@ fn d11_every_listed_csv_format_is_csv() {
 #[test]
 fn d11_inspect_json_without_channel_is_the_summary_as_json() {
     let d = dir("d11-inspect");
-    let mcap = d.join("c.mcap");
-    assert_eq!(
-        code(&rsts(&[
-            "compare",
-            "--t-end",
-            "2",
-            "--samples",
-            "5",
-            "--mcap",
-            s(&mcap)
-        ])),
-        Some(0)
-    );
+    let mcap = small_compare_log(&d);
     let out = rsts(&["inspect", s(&mcap), "--format", "json"]);
     assert_eq!(code(&out), Some(0), "{}", stderr(&out));
     let v: Value = serde_json::from_slice(&out.stdout).expect("JSON summary");
@@ -1164,19 +1134,7 @@ fn d11_one_column_naming_and_json_numbers_as_numbers() {
         assert_eq!(&header[..10], &state, "{args:?}");
     }
     let d = dir("d11-names");
-    let mcap = d.join("c.mcap");
-    assert_eq!(
-        code(&rsts(&[
-            "compare",
-            "--t-end",
-            "2",
-            "--samples",
-            "5",
-            "--mcap",
-            s(&mcap)
-        ])),
-        Some(0)
-    );
+    let mcap = small_compare_log(&d);
     let out = rsts(&[
         "inspect",
         s(&mcap),

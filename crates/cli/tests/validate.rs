@@ -7,16 +7,12 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 mod common;
-use common::{rsts, stderr, tmp};
+use common::{rsts, s, stderr, tmp};
 
 fn write(name: &str, text: &str) -> PathBuf {
     let p = tmp(name);
     std::fs::write(&p, text).unwrap();
     p
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 fn read_report(dir: &Path) -> Value {

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use std::fmt::Debug;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs the built `rsts` binary with `args`.
@@ -53,4 +53,27 @@ pub fn exit_2(out: &Output, what: impl Debug) -> String {
 /// Runs `rsts args…`, expects exit code 2 and returns stderr.
 pub fn fails(args: &[&str]) -> String {
     exit_2(&rsts(args), args)
+}
+
+/// A path as `&str`, for an argument list.
+pub fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A fresh empty directory `name` under [`tmp`], for one test.
+pub fn dir(name: &str) -> PathBuf {
+    let d = tmp(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The names in a directory, sorted.
+pub fn entries(d: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
 }
