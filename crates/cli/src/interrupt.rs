@@ -4,7 +4,8 @@
 //! current piece and writes a complete file of what it did) calls [`stop_gracefully`]; its first
 //! Ctrl-C only sets the flag it returns. Any other Ctrl-C — the first one for every
 //! other command, the second one for those — removes the temporaries of the output files still
-//! being written ([`rsts_io::remove_temporaries`]: the targets keep what they had) and exits
+//! being written ([`rsts_io::close_temporaries`]: the targets keep what they had, and no new
+//! temporary is made meanwhile by the working thread) and exits
 //! with code 130 at once.
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -26,7 +27,7 @@ pub fn install() {
         if GRACEFUL.load(Ordering::SeqCst) && !REQUESTED.swap(true, Ordering::SeqCst) {
             return;
         }
-        rsts_io::remove_temporaries();
+        rsts_io::close_temporaries();
         std::process::exit(i32::from(EXIT_INTERRUPTED));
     });
 }

@@ -15,17 +15,29 @@ use std::ffi::OsString;
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Mutex;
 
 /// Temporaries currently open in this process (removed by [`remove_temporaries`]).
 static OPEN: Mutex<BTreeSet<PathBuf>> = Mutex::new(BTreeSet::new());
 static COUNTER: AtomicU64 = AtomicU64::new(0);
+/// Set by [`close_temporaries`]: the process is exiting, no new temporary may be made.
+static CLOSED: AtomicBool = AtomicBool::new(false);
 
-fn register(p: &Path) {
-    if let Ok(mut set) = OPEN.lock() {
-        set.insert(p.to_path_buf());
+/// Make the temporary `p` with `create` and register it, both while holding the set's lock, so
+/// that a Ctrl-C handler running [`close_temporaries`] on another thread either sees it and
+/// removes it, or comes first and the temporary is never made.
+fn create_registered<T>(p: &Path, create: impl FnOnce() -> io::Result<T>) -> io::Result<T> {
+    let mut set = OPEN.lock().unwrap_or_else(|e| e.into_inner());
+    if CLOSED.load(Ordering::SeqCst) {
+        return Err(io::Error::new(
+            io::ErrorKind::Interrupted,
+            format!("interrupted: {} not created", p.display()),
+        ));
     }
+    let made = create()?;
+    set.insert(p.to_path_buf());
+    Ok(made)
 }
 
 fn unregister(p: &Path) {
@@ -34,9 +46,21 @@ fn unregister(p: &Path) {
     }
 }
 
-/// Remove every temporary file and directory this process still has open (for a Ctrl-C handler
-/// that is about to exit: the targets keep their previous contents). Safe to call more than once.
+/// Remove every temporary file and directory this process still has open: the targets keep their
+/// previous contents. Safe to call more than once; later temporaries are made as usual.
 pub fn remove_temporaries() {
+    remove_all();
+}
+
+/// [`remove_temporaries`] for a Ctrl-C handler that is about to exit: from now on no new
+/// temporary is made (another thread that tries gets an `Interrupted` error), so none is left
+/// behind by a thread that was creating one meanwhile.
+pub fn close_temporaries() {
+    CLOSED.store(true, Ordering::SeqCst);
+    remove_all();
+}
+
+fn remove_all() {
     // Never block for long: a true signal handler must not wait for a lock the interrupted
     // thread may hold. The lock is only ever held for a set insertion or removal, so a few
     // tries over ~0.2 s get it unless that thread is itself stopped inside one.
@@ -131,13 +155,10 @@ pub fn check_writable(target: &Path) -> io::Result<()> {
         ));
     }
     let probe = temporary_beside(&existing.join("probe"))?;
-    // Registered before it exists, so a Ctrl-C while it does removes it too.
-    register(&probe);
-    let created = File::options()
-        .write(true)
-        .create_new(true)
-        .open(&probe)
-        .map_err(|e| context(e, format!("cannot write in {}", existing.display())));
+    let created = create_registered(&probe, || {
+        File::options().write(true).create_new(true).open(&probe)
+    })
+    .map_err(|e| context(e, format!("cannot write in {}", existing.display())));
     if created.is_ok() {
         let _ = fs::remove_file(&probe);
     }
@@ -178,17 +199,14 @@ impl AtomicFile {
         fs::create_dir_all(&dir)
             .map_err(|e| context(e, format!("cannot create {}", dir.display())))?;
         let tmp = temporary_beside(&target)?;
-        // Registered before it exists: a Ctrl-C right after the creation still removes it.
-        register(&tmp);
-        let file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create_new(true)
-            .open(&tmp)
-            .map_err(|e| {
-                unregister(&tmp);
-                context(e, format!("cannot create {}", target.display()))
-            })?;
+        let file = create_registered(&tmp, || {
+            OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create_new(true)
+                .open(&tmp)
+        })
+        .map_err(|e| context(e, format!("cannot create {}", target.display())))?;
         Ok(Self {
             target,
             tmp,
@@ -292,11 +310,8 @@ impl AtomicDir {
         fs::create_dir_all(&dir)
             .map_err(|e| context(e, format!("cannot create {}", dir.display())))?;
         let tmp = temporary_beside(&target)?;
-        register(&tmp);
-        fs::create_dir(&tmp).map_err(|e| {
-            unregister(&tmp);
-            context(e, format!("cannot create {}", target.display()))
-        })?;
+        create_registered(&tmp, || fs::create_dir(&tmp))
+            .map_err(|e| context(e, format!("cannot create {}", target.display())))?;
         Ok(Self {
             target,
             tmp,
