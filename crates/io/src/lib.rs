@@ -30,10 +30,12 @@ static CLOSED: AtomicBool = AtomicBool::new(false);
 fn create_registered<T>(p: &Path, create: impl FnOnce() -> io::Result<T>) -> io::Result<T> {
     let mut set = OPEN.lock().unwrap_or_else(|e| e.into_inner());
     if CLOSED.load(Ordering::SeqCst) {
-        return Err(io::Error::new(
-            io::ErrorKind::Interrupted,
-            format!("interrupted: {} not created", p.display()),
-        ));
+        // The Ctrl-C handler is exiting the process (exit code 130): wait for that instead of
+        // failing with an error of our own and another exit code.
+        drop(set);
+        loop {
+            std::thread::sleep(std::time::Duration::from_secs(3600));
+        }
     }
     let made = create()?;
     set.insert(p.to_path_buf());
@@ -52,8 +54,8 @@ pub fn remove_temporaries() {
     remove_all();
 }
 
-/// [`remove_temporaries`] for a Ctrl-C handler that is about to exit: from now on no new
-/// temporary is made (another thread that tries gets an `Interrupted` error), so none is left
+/// [`remove_temporaries`] for a Ctrl-C handler that exits the process right after: from now on
+/// no new temporary is made (another thread that tries waits for that exit), so none is left
 /// behind by a thread that was creating one meanwhile.
 pub fn close_temporaries() {
     CLOSED.store(true, Ordering::SeqCst);
