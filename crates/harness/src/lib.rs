@@ -9,6 +9,9 @@
 //!   produces the [`Report`] (errors, drifts, cost), handing every [`SampleRecord`] to an
 //!   [`Observer`] (the CLI logs them to MCAP and draws a progress bar; it can stop the run).
 //!
+//! [`check`] is the analysis of a trajectory computed elsewhere (a file, arrays), the motion
+//! given or identified from its first sample.
+//!
 //! [`compare_integrator`] is both for a [`Case`] (a, b, m, h, torus, phases, T, N); [`compare`]
 //! is its form for a built-in method; [`bench::measure_against`] measures work against
 //! precision. The closed form is evaluated [`REFERENCE_GUARD_BITS`] beyond the integrator's
@@ -19,6 +22,7 @@
 pub mod analysis;
 pub mod bench;
 mod case;
+pub mod check;
 mod compare;
 pub mod geometry;
 pub mod growth;
@@ -30,6 +34,7 @@ pub mod reference;
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
 pub use bench::{measure, measure_against, measure_integrator, BenchRow, Reference};
 pub use case::Case;
+pub use check::{check, Check, CheckReport, CheckRequest, CheckedCase, GivenMotion};
 pub use compare::{
     check_finite_report, compare, compare_integrator, preflight, reference_bits,
     reference_bits_for, run_info, CompareOptions, DEFAULT_PIECES, REFERENCE_GUARD_BITS,

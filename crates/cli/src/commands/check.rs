@@ -4,16 +4,12 @@
 
 use std::io::Write;
 use std::path::PathBuf;
-use std::sync::atomic::Ordering;
 
 use anyhow::{anyhow, bail, Context};
 use clap::Args as ClapArgs;
-use rug::Float;
 use serde::Serialize;
 
-use rsts_closed_form::manifold::{identify, IdentifyError};
-use rsts_dynamics::scalar::bits_for_digits;
-use rsts_harness::{Analysis, Case, Report, RunInfo, REFERENCE_GUARD_BITS};
+use rsts_harness::{CheckReport, CheckRequest, GivenMotion};
 
 use crate::args::{case_error, finite_f64, FieldArgs};
 use crate::commands::compare::{
@@ -85,33 +81,11 @@ pub struct Args {
     pub format: Format,
 }
 
-/// The motion a trajectory is checked against.
-#[derive(Clone, Debug, Serialize)]
-pub struct CheckedCase {
-    pub a: f64,
-    pub b: f64,
-    pub m: f64,
-    pub h: f64,
-    pub torus: usize,
-    /// Angles on the torus at t = 0.
-    pub phase1: f64,
-    pub phase2: f64,
-    /// True when (m, h, torus, phases) were identified from the first row.
-    pub identified: bool,
-}
-
-/// The JSON of `rsts check`.
+/// The JSON of `rsts check`: the library's report and where the log went.
 #[derive(Serialize)]
 struct Document<'a> {
-    file: String,
-    case: &'a CheckedCase,
-    /// max |x − x_exact| over the nine components at the first row (the start of the run).
-    start_state_error: f64,
-    /// Relative distance of the first row from N (identification only).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    start_distance_from_n: Option<f64>,
     #[serde(flatten)]
-    report: &'a Report,
+    report: &'a CheckReport,
     #[serde(skip_serializing_if = "Option::is_none")]
     mcap: Option<String>,
 }
@@ -134,70 +108,6 @@ fn check_file_size(path: &std::path::Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Relative distance from N above which a first row is refused for identification.
-pub const ON_N_TOLERANCE: f64 = 1e-8;
-
-/// Identify the motion from the first state: (m, h, torus) and the phases at t = 0.
-fn identify_case(
-    a: f64,
-    b: f64,
-    t0: &Float,
-    first: &rsts_dynamics::State<Float>,
-) -> anyhow::Result<(CheckedCase, f64)> {
-    let bits = t0.prec();
-    let f = |x: f64| Float::with_val(bits, x);
-    let id = identify(&f(a), &f(b), first).map_err(|e| match e {
-        IdentifyError::Input(msg) => anyhow!("first row: {msg}"),
-        IdentifyError::NoTorus { m, h, distance, reason } => anyhow!(
-            "first row: not a state of a motion on N of a = {a}, b = {b}: its (m, h) = ({m}, {h}) has no torus ({reason}); its relative distance from N is {distance:.3e}"
-        ),
-    })?;
-    let relative = id.distance.relative.to_f64();
-    if relative.is_nan() || relative > ON_N_TOLERANCE {
-        bail!(
-            "first row: not on N of a = {a}, b = {b}: its relative distance from N is {relative:.3e} (> {ON_N_TOLERANCE:e}); give the motion with --m, --h (and --torus, --phase1, --phase2) to check it anyway"
-        );
-    }
-    // ψ(t) = ψ⁰ + ν t: the phases at t = 0 from those at the first row's time.
-    let motion = rsts_closed_form::ExplicitMotion::new(
-        f(a),
-        f(b),
-        id.m.clone(),
-        id.h.clone(),
-        rsts_closed_form::TorusChoice {
-            torus: id.torus,
-            phase1: 0.0,
-            phase2: 0.0,
-        },
-    )?;
-    let nu = motion.frequencies();
-    let two_pi = Float::with_val(bits, rug::float::Constant::Pi) * 2u32;
-    let at_zero = |psi: &Float, nu: &Float| {
-        let x = Float::with_val(bits, psi - nu.clone() * t0);
-        let turns = Float::with_val(bits, &x / &two_pi).floor();
-        let psi = (x - turns * &two_pi).to_f64();
-        // 2π − 1e-16 is 0 on the torus.
-        if psi > std::f64::consts::TAU - 1e-12 {
-            0.0
-        } else {
-            psi
-        }
-    };
-    Ok((
-        CheckedCase {
-            a,
-            b,
-            m: id.m.to_f64(),
-            h: id.h.to_f64(),
-            torus: id.torus,
-            phase1: at_zero(&id.phases[0], &nu[0]),
-            phase2: at_zero(&id.phases[1], &nu[1]),
-            identified: true,
-        },
-        relative,
-    ))
-}
-
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if let Some(e) = args.max_error {
         if e < 0.0 {
@@ -211,136 +121,82 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     let (a, b) = (args.fields.a, args.fields.b);
     rsts_dynamics::Fields::new(a, b).map_err(|e| anyhow!("--a/--b: {e}"))?;
-    if let (Some(m), Some(h)) = (args.m, args.h) {
-        // The motion given is checked before the file is read.
-        let case = Case {
-            a,
-            b,
-            m,
-            h,
-            torus: args.torus.unwrap_or(0),
-            phase1: args.phase1.unwrap_or(0.0),
-            phase2: args.phase2.unwrap_or(0.0),
-            t_end: 0.0,
-            samples: 1,
-        };
-        case.validate().map_err(case_error)?;
-        case.reference_motion(64).map_err(case_error)?;
-    }
-    if let Some(path) = &args.mcap {
-        rsts_io::check_writable(path).with_context(|| format!("--mcap {}", path.display()))?;
-    }
-    check_file_size(&args.file)?;
-    let raw = rsts_external::read_trajectory(&args.file).map_err(|e| anyhow!("{e}"))?;
-    let data_digits = match args.digits {
-        Some(d) => d,
-        None if raw.is_high_precision() => raw.digits() as u32,
-        None => 15,
-    };
-    let bits = bits_for_digits(data_digits.max(30)) + REFERENCE_GUARD_BITS;
-    let samples = raw.to_samples(bits);
-    drop(raw);
-    let (case, distance) = match (args.m, args.h) {
-        (Some(m), Some(h)) => (
-            CheckedCase {
-                a,
-                b,
-                m,
-                h,
-                torus: args.torus.unwrap_or(0),
-                phase1: args.phase1.unwrap_or(0.0),
-                phase2: args.phase2.unwrap_or(0.0),
-                identified: false,
-            },
-            None,
-        ),
-        _ => {
-            let (case, d) = identify_case(a, b, &samples.times[0], &samples.states[0])?;
-            (case, Some(d))
-        }
-    };
-    let harness_case = Case {
-        a,
-        b,
-        m: case.m,
-        h: case.h,
-        torus: case.torus,
-        phase1: case.phase1,
-        phase2: case.phase2,
-        // The motion is built for the largest |t| of the file (its phase clock's bits).
-        t_end: samples
-            .times
-            .iter()
-            .fold(0.0, |m: f64, t| m.max(t.to_f64().abs())),
-        samples: 1,
-    };
     let name = args
         .file
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| args.file.display().to_string());
-    let info = RunInfo {
-        method: name,
-        rtol: None,
-        atol: None,
-        digits: data_digits,
+    let mut request = CheckRequest {
+        file: args.file.display().to_string(),
+        name,
+        a,
+        b,
+        motion: match (args.m, args.h) {
+            (Some(m), Some(h)) => Some(GivenMotion {
+                m,
+                h,
+                torus: args.torus.unwrap_or(0),
+                phase1: args.phase1.unwrap_or(0.0),
+                phase2: args.phase2.unwrap_or(0.0),
+            }),
+            _ => None,
+        },
+        digits: 15,
     };
-    let mut analysis = Analysis::for_case(&harness_case, bits, info).map_err(|e| {
-        if case.identified {
-            anyhow!(
-                "the motion identified from the first row of {}: {e}",
-                args.file.display()
-            )
-        } else {
-            case_error(e)
-        }
-    })?;
+    // The motion given is checked before the file is read.
+    request.validate().map_err(case_error)?;
+    if let Some(path) = &args.mcap {
+        rsts_io::check_writable(path).with_context(|| format!("--mcap {}", path.display()))?;
+    }
+    check_file_size(&args.file)?;
+    let raw = rsts_external::read_trajectory(&args.file).map_err(|e| anyhow!("{e}"))?;
+    request.digits = match args.digits {
+        Some(d) => d,
+        None if raw.is_high_precision() => raw.digits() as u32,
+        None => 15,
+    };
+    let samples = raw.to_samples(request.reference_bits());
+    drop(raw);
+    let t_extent = samples
+        .times
+        .iter()
+        .fold(0.0, |m: f64, t| m.max(t.to_f64().abs()));
+    let start =
+        rsts_harness::Check::start(&request, &samples.times[0], &samples.states[0], t_extent)
+            .map_err(|e| {
+                if request.motion.is_some() {
+                    case_error(e)
+                } else {
+                    anyhow!("{e}")
+                }
+            })?;
     let log = match &args.mcap {
         None => None,
         Some(path) => {
             let meta =
                 serde_json::json!({"method": "check", "file": args.file.display().to_string()});
-            Some(open_log(path, &case, &meta)?)
+            Some(open_log(path, start.case(), &meta)?)
         }
     };
     let stop = stop_on_ctrl_c();
-    let mut observer = CliObserver::new(log, samples.times.len() as u64, stop.clone());
-    let mut start_error = None;
-    let mut result = Ok(());
-    for (t, s) in samples.times.iter().zip(&samples.states) {
-        if stop.load(Ordering::SeqCst) {
-            analysis.mark_incomplete();
-            break;
+    let mut observer = CliObserver::new(log, samples.times.len() as u64, stop);
+    let report = match start.run(&samples.times, &samples.states, &mut observer) {
+        Ok(report) => report,
+        Err(e) => {
+            // A failed check discards its log: the temporary is removed, a previous file stays.
+            observer.bar.finish_and_clear();
+            drop(observer);
+            return Err(anyhow!("{e}"));
         }
-        match analysis.sample(t, s, &mut observer) {
-            Ok(e) => {
-                start_error.get_or_insert(e.state_error);
-            }
-            Err(e) => {
-                result = Err(anyhow!("{e}"));
-                break;
-            }
-        }
-    }
-    if let Err(e) = result {
-        // A failed check discards its log: the temporary is removed, a previous file stays.
-        observer.bar.finish_and_clear();
-        drop(observer);
-        return Err(e);
-    }
+    };
     let log_stats = observer.finish()?;
-    let report = analysis.finish();
-    check_finite_report(&report)?;
+    check_finite_report(&report.report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
-    let start_state_error = start_error.unwrap_or(f64::NAN);
     let doc = Document {
-        file: args.file.display().to_string(),
-        case: &case,
-        start_state_error,
-        start_distance_from_n: distance,
         report: &report,
         mcap: mcap.clone(),
     };
+    let case = &report.case;
     match args.format {
         Format::Json => output::write_json(out, &doc)?,
         Format::Csv => output::write_records_csv(out, &[&doc])?,
@@ -348,7 +204,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             output::write_key_values(
                 out,
                 &[
-                    ("file", args.file.display().to_string()),
+                    ("file", report.file.clone()),
                     (
                         "motion",
                         format!(
@@ -362,14 +218,16 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                             case.phase2
                         ),
                     ),
-                    ("start state error", format!("{start_state_error:.3e}")),
+                    (
+                        "start state error",
+                        format!("{:.3e}", report.start_state_error),
+                    ),
                 ],
             )?;
-            let t_last = samples.times.last().map_or(0.0, Float::to_f64);
-            let t_first = samples.times[0].to_f64();
+            let (t_first, t_last) = report.span;
             write_table(
                 out,
-                &report,
+                &report.report,
                 &format!("{t_first}, {t_last}"),
                 (a, b, case.m, case.h, case.torus),
             )?;
@@ -381,22 +239,21 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             stats.samples, stats.messages
         );
     }
-    if !report.complete {
+    if !report.report.complete {
         out.flush()?;
         return Err(Interrupted(format!(
             "interrupted: checked {} of {} samples",
-            report.samples_compared,
-            samples.times.len()
+            report.report.samples_compared, report.samples_given
         ))
         .into());
     }
     if let Some(limit) = args.max_error {
-        if report.max_state_error.is_nan() || report.max_state_error > limit {
+        let e = report.report.max_state_error;
+        if e.is_nan() || e > limit {
             out.flush()?;
             return Err(Failed(format!(
-                "{}: max state error {:.3e} exceeds --max-error {limit:e}",
+                "{}: max state error {e:.3e} exceeds --max-error {limit:e}",
                 args.file.display(),
-                report.max_state_error
             ))
             .into());
         }

@@ -1,0 +1,422 @@
+//! Checking a trajectory computed elsewhere — a file (`rsts check`), arrays (`rsts.check` in
+//! Python) — against the closed-form motion on N: the motion is given (m, h, torus, phases) or
+//! identified from the first sample, then every sample is analysed as `compare` analyses an
+//! integrator's ([`crate::Analysis`]). Both faces call [`check`] and serialise its
+//! [`CheckReport`].
+
+use rug::Float;
+use serde::Serialize;
+
+use rsts_closed_form::manifold::{identify, IdentifyError};
+use rsts_closed_form::{ExplicitMotion, TorusChoice};
+use rsts_dynamics::scalar::bits_for_digits;
+use rsts_dynamics::{Fields, State};
+
+use crate::analysis::{Analysis, Observer, RunInfo};
+use crate::case::Case;
+use crate::metrics::Report;
+use crate::{HarnessError, REFERENCE_GUARD_BITS};
+
+/// Relative distance from N above which a first sample is refused for identification.
+pub const ON_N_TOLERANCE: f64 = 1e-8;
+
+/// The motion a trajectory is checked against, when the caller knows it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GivenMotion {
+    pub m: f64,
+    pub h: f64,
+    /// Which Liouville torus (0-based).
+    pub torus: usize,
+    /// Angles ψ₁, ψ₂ on the torus at t = 0.
+    pub phase1: f64,
+    pub phase2: f64,
+}
+
+/// What to check a trajectory against, and how to name it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckRequest {
+    /// Where the trajectory came from, as the report's `file` shows it (a path, or a
+    /// description such as `<arrays>`).
+    pub file: String,
+    /// The report's `method`: the trajectory's short name (a file name).
+    pub name: String,
+    pub a: f64,
+    pub b: f64,
+    /// `None`: identified from the first sample, which must lie on N.
+    pub motion: Option<GivenMotion>,
+    /// Decimal digits the data carry (f64 data: 15).
+    pub digits: u32,
+}
+
+impl CheckRequest {
+    /// Check what can be checked before the data are read: the fields, and the motion when it
+    /// is given (a point of N off Σ with the torus asked).
+    pub fn validate(&self) -> Result<(), HarnessError> {
+        Fields::new(self.a, self.b)?;
+        if let Some(case) = self.given_case() {
+            case.validate()?;
+            case.reference_motion(64)?;
+        }
+        Ok(())
+    }
+
+    /// Bits of the closed-form reference: the data's digits (at least 30) plus
+    /// [`REFERENCE_GUARD_BITS`].
+    pub fn reference_bits(&self) -> u32 {
+        bits_for_digits(self.digits.max(30)) + REFERENCE_GUARD_BITS
+    }
+
+    fn given_case(&self) -> Option<Case> {
+        self.motion.map(|g| Case {
+            a: self.a,
+            b: self.b,
+            m: g.m,
+            h: g.h,
+            torus: g.torus,
+            phase1: g.phase1,
+            phase2: g.phase2,
+            t_end: 0.0,
+            samples: 1,
+        })
+    }
+}
+
+/// The motion a trajectory was checked against.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CheckedCase {
+    pub a: f64,
+    pub b: f64,
+    pub m: f64,
+    pub h: f64,
+    pub torus: usize,
+    /// Angles on the torus at t = 0.
+    pub phase1: f64,
+    pub phase2: f64,
+    /// True when (m, h, torus, phases) were identified from the first sample.
+    pub identified: bool,
+}
+
+/// The result of a check: the JSON of `rsts check` (without the MCAP path the CLI adds).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CheckReport {
+    pub file: String,
+    pub case: CheckedCase,
+    /// max |x − x_exact| over the nine components at the first sample (the start of the run).
+    pub start_state_error: f64,
+    /// Relative distance of the first sample from N (identification only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub start_distance_from_n: Option<f64>,
+    #[serde(flatten)]
+    pub report: Report,
+    /// Times of the first and last sample given (not serialised: the table shows them).
+    #[serde(skip)]
+    pub span: (f64, f64),
+    /// Samples given (the report's `samples_compared` is smaller when the run was stopped).
+    #[serde(skip)]
+    pub samples_given: usize,
+}
+
+/// Identify the motion from the first sample (time `t0`, at the reference precision): (m, h,
+/// torus) and the phases at t = 0, and the sample's relative distance from N.
+pub fn identify_case(
+    a: f64,
+    b: f64,
+    t0: &Float,
+    first: &State<Float>,
+) -> Result<(CheckedCase, f64), HarnessError> {
+    let bits = t0.prec();
+    let f = |x: f64| Float::with_val(bits, x);
+    let id = identify(&f(a), &f(b), first).map_err(|e| {
+        HarnessError::Case(match e {
+            IdentifyError::Input(msg) => format!("first row: {msg}"),
+            IdentifyError::NoTorus {
+                m,
+                h,
+                distance,
+                reason,
+            } => format!(
+                "first row: not a state of a motion on N of a = {a}, b = {b}: its (m, h) = ({m}, {h}) has no torus ({reason}); its relative distance from N is {distance:.3e}"
+            ),
+        })
+    })?;
+    let relative = id.distance.relative.to_f64();
+    if relative.is_nan() || relative > ON_N_TOLERANCE {
+        return Err(HarnessError::Case(format!(
+            "first row: not on N of a = {a}, b = {b}: its relative distance from N is {relative:.3e} (> {ON_N_TOLERANCE:e}); give the motion with --m, --h (and --torus, --phase1, --phase2) to check it anyway"
+        )));
+    }
+    // ψ(t) = ψ⁰ + ν t: the phases at t = 0 from those at the first sample's time.
+    let motion = ExplicitMotion::new(
+        f(a),
+        f(b),
+        id.m.clone(),
+        id.h.clone(),
+        TorusChoice {
+            torus: id.torus,
+            phase1: 0.0,
+            phase2: 0.0,
+        },
+    )?;
+    let nu = motion.frequencies();
+    let two_pi = Float::with_val(bits, rug::float::Constant::Pi) * 2u32;
+    let at_zero = |psi: &Float, nu: &Float| {
+        let x = Float::with_val(bits, psi - nu.clone() * t0);
+        let turns = Float::with_val(bits, &x / &two_pi).floor();
+        let psi = (x - turns * &two_pi).to_f64();
+        // 2π − 1e-16 is 0 on the torus.
+        if psi > std::f64::consts::TAU - 1e-12 {
+            0.0
+        } else {
+            psi
+        }
+    };
+    Ok((
+        CheckedCase {
+            a,
+            b,
+            m: id.m.to_f64(),
+            h: id.h.to_f64(),
+            torus: id.torus,
+            phase1: at_zero(&id.phases[0], &nu[0]),
+            phase2: at_zero(&id.phases[1], &nu[1]),
+            identified: true,
+        },
+        relative,
+    ))
+}
+
+/// A check under way: the motion is known (given or identified), the samples come next.
+pub struct Check {
+    file: String,
+    case: CheckedCase,
+    distance: Option<f64>,
+    analysis: Analysis,
+}
+
+impl Check {
+    /// Start checking a trajectory whose first sample is `first` at time `t0` and whose times
+    /// reach at most `t_extent` in absolute value (the phase clock of the reference is built
+    /// for it). Identifies the motion from the first sample when the request does not give it.
+    pub fn start(
+        request: &CheckRequest,
+        t0: &Float,
+        first: &State<Float>,
+        t_extent: f64,
+    ) -> Result<Self, HarnessError> {
+        let bits = request.reference_bits();
+        let (case, distance) = match request.motion {
+            Some(g) => (
+                CheckedCase {
+                    a: request.a,
+                    b: request.b,
+                    m: g.m,
+                    h: g.h,
+                    torus: g.torus,
+                    phase1: g.phase1,
+                    phase2: g.phase2,
+                    identified: false,
+                },
+                None,
+            ),
+            None => {
+                let t0 = Float::with_val(bits, t0);
+                let first = first.map(|x| Float::with_val(bits, x));
+                let (case, d) = identify_case(request.a, request.b, &t0, &first)?;
+                (case, Some(d))
+            }
+        };
+        let harness_case = Case {
+            a: case.a,
+            b: case.b,
+            m: case.m,
+            h: case.h,
+            torus: case.torus,
+            phase1: case.phase1,
+            phase2: case.phase2,
+            t_end: t_extent,
+            samples: 1,
+        };
+        let info = RunInfo {
+            method: request.name.clone(),
+            rtol: None,
+            atol: None,
+            digits: request.digits,
+        };
+        let analysis = Analysis::for_case(&harness_case, bits, info).map_err(|e| {
+            if case.identified {
+                HarnessError::Case(format!(
+                    "the motion identified from the first row of {}: {e}",
+                    request.file
+                ))
+            } else {
+                e
+            }
+        })?;
+        Ok(Self {
+            file: request.file.clone(),
+            case,
+            distance,
+            analysis,
+        })
+    }
+
+    /// The motion the trajectory is checked against.
+    pub fn case(&self) -> &CheckedCase {
+        &self.case
+    }
+
+    /// Analyse the samples in time order (each handed to `observer`; when it asks to stop, the
+    /// report says `complete: false`) and report.
+    pub fn run(
+        mut self,
+        times: &[Float],
+        states: &[State<Float>],
+        observer: &mut dyn Observer,
+    ) -> Result<CheckReport, HarnessError> {
+        check_lengths(times, states)?;
+        let mut start_error = None;
+        for (t, s) in times.iter().zip(states) {
+            if observer.should_stop() {
+                self.analysis.mark_incomplete();
+                break;
+            }
+            let e = self.analysis.sample(t, s, observer)?;
+            start_error.get_or_insert(e.state_error);
+        }
+        Ok(CheckReport {
+            file: self.file,
+            case: self.case,
+            start_state_error: start_error.unwrap_or(f64::NAN),
+            start_distance_from_n: self.distance,
+            report: self.analysis.finish(),
+            span: (
+                times.first().map_or(f64::NAN, Float::to_f64),
+                times.last().map_or(f64::NAN, Float::to_f64),
+            ),
+            samples_given: times.len(),
+        })
+    }
+}
+
+/// As many states as times, and at least one.
+fn check_lengths(times: &[Float], states: &[State<Float>]) -> Result<(), HarnessError> {
+    if times.len() != states.len() {
+        return Err(HarnessError::Case(format!(
+            "{} times and {} states",
+            times.len(),
+            states.len()
+        )));
+    }
+    if times.is_empty() {
+        return Err(HarnessError::Case("no samples to check".into()));
+    }
+    Ok(())
+}
+
+/// Check a trajectory: `times` (strictly increasing, any spacing) and one state per time, at
+/// [`CheckRequest::reference_bits`] (wider values are rounded by the arithmetic, narrower ones
+/// are exact): [`Check::start`] from the first sample, then [`Check::run`] over all of them.
+pub fn check(
+    request: &CheckRequest,
+    times: &[Float],
+    states: &[State<Float>],
+    observer: &mut dyn Observer,
+) -> Result<CheckReport, HarnessError> {
+    check_lengths(times, states)?;
+    let t_extent = times.iter().fold(0.0, |m: f64, t| m.max(t.to_f64().abs()));
+    Check::start(request, &times[0], &states[0], t_extent)?.run(times, states, observer)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::NoObserver;
+
+    fn request(motion: Option<GivenMotion>) -> CheckRequest {
+        CheckRequest {
+            file: "<test>".into(),
+            name: "test".into(),
+            a: 1.0,
+            b: 0.5,
+            motion,
+            digits: 15,
+        }
+    }
+
+    /// Exact samples of camera I+ from t = 2: the motion is identified (the phases at t = 0
+    /// are those of the case), the errors are round-off of the reference, and the same samples
+    /// checked against the motion given report the same case, not identified.
+    #[test]
+    fn exact_samples_are_identified_and_have_no_error() {
+        let case = Case {
+            phase1: 0.4,
+            phase2: 1.1,
+            ..Case::default_i_plus()
+        };
+        let r = request(None);
+        let bits = r.reference_bits();
+        let (motion, _) = case.reference_motion(bits).unwrap();
+        let times: Vec<Float> = [2.0, 2.5, 7.0]
+            .iter()
+            .map(|&t| Float::with_val(bits, t))
+            .collect();
+        let states: Vec<State<Float>> = times
+            .iter()
+            .map(|t| crate::metrics::exact_state(&motion.at(t)))
+            .collect();
+        let report = check(&r, &times, &states, &mut NoObserver).unwrap();
+        assert!(report.case.identified);
+        assert_eq!(report.case.torus, 0);
+        assert!((report.case.m - 0.3).abs() < 1e-12, "{:?}", report.case);
+        assert!((report.case.phase1 - 0.4).abs() < 1e-9, "{:?}", report.case);
+        assert!((report.case.phase2 - 1.1).abs() < 1e-9, "{:?}", report.case);
+        assert!(report.report.max_state_error < 1e-12, "{report:?}");
+        assert_eq!(report.span, (2.0, 7.0));
+        assert_eq!(report.report.samples_compared, 3);
+        assert_eq!(report.report.method, "test");
+
+        let given = request(Some(GivenMotion {
+            m: 0.3,
+            h: -0.375,
+            torus: 0,
+            phase1: 0.4,
+            phase2: 1.1,
+        }));
+        let report = check(&given, &times, &states, &mut NoObserver).unwrap();
+        assert!(!report.case.identified);
+        assert!(report.start_distance_from_n.is_none());
+        assert!(report.report.max_state_error < 1e-40, "{report:?}");
+    }
+
+    /// A first sample off N is refused; a motion given that does not exist is refused before
+    /// any data are read; empty and mismatched data are refused.
+    #[test]
+    fn bad_requests_and_data_are_refused() {
+        let r = request(None);
+        let bits = r.reference_bits();
+        let f = |x: f64| Float::with_val(bits, x);
+        let off = State {
+            omega: [f(0.3), f(-0.2), f(0.5)],
+            alpha: [f(1.0), f(0.0), f(0.0)],
+            beta: [f(0.0), f(1.0), f(0.0)],
+        };
+        let e = check(&r, &[f(0.0)], std::slice::from_ref(&off), &mut NoObserver).unwrap_err();
+        assert!(e.to_string().starts_with("first row: not"), "{e}");
+        assert!(check(&r, &[], &[], &mut NoObserver).is_err());
+        assert!(check(&r, &[f(0.0), f(1.0)], &[off], &mut NoObserver).is_err());
+        let nowhere = request(Some(GivenMotion {
+            m: 0.3,
+            h: -100.0,
+            torus: 0,
+            phase1: 0.0,
+            phase2: 0.0,
+        }));
+        assert!(nowhere.validate().is_err());
+        assert!(request(None).validate().is_ok());
+        let fields = CheckRequest {
+            b: 2.0,
+            ..request(None)
+        };
+        assert!(fields.validate().is_err());
+    }
+}
