@@ -34,13 +34,13 @@ pub(crate) fn whole(name: &str, x: i64) -> PyResult<usize> {
 impl Case {
     /// Check a harness case (its a, b, m, h, torus, phases; the grid is the caller's).
     pub(crate) fn checked(case: rsts_harness::Case) -> PyResult<Self> {
-        let check = rsts_harness::Case {
+        let case = rsts_harness::Case {
             t_end: 0.0,
             samples: 1,
-            ..case.clone()
+            ..case
         };
-        check.validate().map_err(harness_error)?;
-        let (motion, _) = check.reference_motion(64).map_err(harness_error)?;
+        case.validate().map_err(harness_error)?;
+        let (motion, _) = case.reference_motion(64).map_err(harness_error)?;
         Ok(Self {
             camera: motion.camera.label().to_string(),
             case,
@@ -121,8 +121,8 @@ impl Case {
     fn __repr__(&self) -> String {
         let c = &self.case;
         format!(
-            "Case(a={:?}, b={:?}, m={:?}, h={:?}, torus={}, phase1={:?}, phase2={:?})  # camera {}",
-            c.a, c.b, c.m, c.h, c.torus, c.phase1, c.phase2, self.camera
+            "Case(a={:?}, b={:?}, m={:?}, h={:?}, torus={}, phase1={:?}, phase2={:?})",
+            c.a, c.b, c.m, c.h, c.torus, c.phase1, c.phase2
         )
     }
 

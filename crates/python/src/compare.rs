@@ -227,7 +227,9 @@ pub fn compare<'py>(
         let result = compare_integrator(&case, integrator, &options, &mut watch);
         Ok::<_, HarnessError>((result, watch.0.take()))
     });
-    let report = finish(result, chosen_error(&mut chosen))?;
+    let report: Report = finish(result, chosen_error(&mut chosen))?;
+    // A report with a non-finite figure is an error, as in the CLI.
+    check_finite_report(&report).map_err(harness_error)?;
     report_dict(py, &report)
 }
 
@@ -239,12 +241,11 @@ fn chosen_error(chosen: &mut Chosen) -> Option<PyErr> {
 }
 
 /// The report of a run, or the exception that stopped it: the callable's own, then Ctrl-C's,
-/// then the harness's error as ValueError/RuntimeError. A report with a non-finite figure is an
-/// error (as in the CLI).
-pub(crate) fn finish(
-    result: Result<(Result<Report, HarnessError>, Option<PyErr>), HarnessError>,
+/// then the harness's error as ValueError/RuntimeError.
+pub(crate) fn finish<R>(
+    result: Result<(Result<R, HarnessError>, Option<PyErr>), HarnessError>,
     callable_error: Option<PyErr>,
-) -> PyResult<Report> {
+) -> PyResult<R> {
     if let Some(e) = callable_error {
         return Err(e);
     }
@@ -252,7 +253,5 @@ pub(crate) fn finish(
     if let Some(e) = interrupt {
         return Err(e);
     }
-    let report = result.map_err(harness_error)?;
-    check_finite_report(&report).map_err(harness_error)?;
-    Ok(report)
+    result.map_err(harness_error)
 }

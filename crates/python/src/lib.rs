@@ -3,8 +3,8 @@
 //!
 //! Two faces, one library: every function parses its arguments, calls the same library function
 //! as the CLI command of the same name, and returns the CLI's report as a dict, converted from
-//! the same serde serialisation (`serde_json::Value` → Python objects, [`to_python`]), so a
-//! field added to a report appears here without a change.
+//! the same serde serialisation ([`report_dict`]: the JSON text of `--format json`, read by
+//! `json.loads`), so a field added to a report appears here without a change.
 //!
 //! Long Rust work runs with the GIL released ([`Python::detach`]) and polls for Ctrl-C
 //! ([`Interrupts`]); errors become `ValueError` (bad input), `RuntimeError` (a failed run) or
@@ -14,12 +14,10 @@ use std::time::{Duration, Instant};
 
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
-use serde_json::Value;
 
 mod arrays;
 mod case;
-// mod check;
+mod check;
 mod compare;
 mod identify;
 
@@ -51,43 +49,15 @@ pub(crate) fn harness_error(e: rsts_harness::HarnessError) -> PyErr {
     }
 }
 
-/// A serde value as Python objects: null → None, numbers → int or float, arrays → list,
-/// objects → dict (in the serialisation's key order).
-pub(crate) fn to_python<'py>(py: Python<'py>, v: &Value) -> PyResult<Bound<'py, PyAny>> {
-    Ok(match v {
-        Value::Null => py.None().into_bound(py),
-        Value::Bool(b) => b.into_pyobject(py)?.to_owned().into_any(),
-        Value::Number(n) => match (n.as_u64(), n.as_i64()) {
-            (Some(u), _) => u.into_pyobject(py)?.into_any(),
-            (None, Some(i)) => i.into_pyobject(py)?.into_any(),
-            _ => n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any(),
-        },
-        Value::String(s) => s.into_pyobject(py)?.into_any(),
-        Value::Array(items) => {
-            let list = PyList::empty(py);
-            for item in items {
-                list.append(to_python(py, item)?)?;
-            }
-            list.into_any()
-        }
-        Value::Object(map) => {
-            let dict = PyDict::new(py);
-            for (k, item) in map {
-                dict.set_item(k, to_python(py, item)?)?;
-            }
-            dict.into_any()
-        }
-    })
-}
-
-/// A report as a dict: its serde serialisation, the one the CLI prints with `--format json`.
+/// A report as a dict: its serde serialisation, the JSON text the CLI prints with
+/// `--format json` (field order kept, a NaN as null), read by Python's `json.loads`.
 pub(crate) fn report_dict<'py>(
     py: Python<'py>,
     report: &impl serde::Serialize,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let v = serde_json::to_value(report)
+    let text = serde_json::to_string(report)
         .map_err(|e| PyRuntimeError::new_err(format!("cannot serialise the report: {e}")))?;
-    to_python(py, &v)
+    py.import("json")?.call_method1("loads", (text,))
 }
 
 /// Polls Python's signal handlers (Ctrl-C → `KeyboardInterrupt`) from Rust work running with
@@ -139,6 +109,6 @@ fn _rsts(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<case::Case>()?;
     m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
-    // check: after the check flow lands
+    m.add_function(wrap_pyfunction!(check::check, m)?)?;
     Ok(())
 }
