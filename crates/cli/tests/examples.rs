@@ -12,7 +12,7 @@
 //! non-zero, or that changes a tracked file, fails the test with the file, line and command.
 //!
 //! Markers, as comment lines inside a block:
-//! - `# needs: heyoka` (or scipy, node, chromium, slurm; several separated by commas): the
+//! - `# needs: heyoka` (or scipy, python, node, chromium, slurm; several separated by commas): the
 //!   commands after it, up to the next blank line, run only when that tool is there (a remark in
 //!   parentheses may follow: `# needs: slurm (run by sbatch)`); otherwise
 //!   they are skipped with a message (`rsts_io::report_skip`, counted by scripts/test.sh).
@@ -34,7 +34,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// Optional tools a `# needs:` marker may name.
-const TOOLS: [&str; 5] = ["heyoka", "scipy", "node", "chromium", "slurm"];
+const TOOLS: [&str; 6] = ["heyoka", "scipy", "python", "node", "chromium", "slurm"];
 /// Virtual environments of optional tools, shared with the clone when the checkout has them.
 const VENVS: [&str; 2] = [".venv-adapters", ".venv-heyoka"];
 /// How long a `# takes:` command runs before it is stopped: long enough to get past argument
@@ -313,6 +313,15 @@ fn tool_available(tool: &str) -> bool {
                 &["-c", &format!("import {tool}")],
             )
         }),
+        // Python 3.9 or later that can make a virtual environment (docs/python.md makes one and
+        // installs the package into it).
+        "python" => ok(
+            "python3",
+            &[
+                "-c",
+                "import sys, venv, ensurepip; sys.exit(sys.version_info < (3, 9))",
+            ],
+        ),
         "node" => ok("node", &["--version"]),
         "chromium" => ok("chromium", &["--version"]),
         "slurm" => ok("sbatch", &["--version"]),
