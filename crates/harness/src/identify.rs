@@ -80,7 +80,8 @@ pub struct OnN {
 }
 
 /// The answer of an identification: the document, and the identified values at their precision
-/// (for a table in the same digits).
+/// (for a table in the same digits). Made once per call: the size of a variant does not matter.
+#[allow(clippy::large_enum_variant)]
 pub enum Identification<T> {
     OnN(OnN, Identified<T>),
     OffN(OffN),

@@ -55,14 +55,17 @@ pub fn check_times(times: &[f64]) -> Result<(), String> {
 }
 
 /// Check requested digits (`None`: f64).
-pub fn check_digits(digits: Option<u32>) -> Result<Option<u32>, String> {
+pub fn check_digits(digits: Option<i64>) -> Result<Option<u32>, String> {
     match digits {
-        Some(d) if !DIGITS.contains(&d) => Err(format!(
-            "must be between {} and {} (without it: f64), got {d}",
-            DIGITS.start(),
-            DIGITS.end()
-        )),
-        d => Ok(d),
+        None => Ok(None),
+        Some(d) => match u32::try_from(d) {
+            Ok(d) if DIGITS.contains(&d) => Ok(Some(d)),
+            _ => Err(format!(
+                "must be between {} and {} (without it: f64), got {d}",
+                DIGITS.start(),
+                DIGITS.end()
+            )),
+        },
     }
 }
 

@@ -144,10 +144,6 @@ impl Case {
     ) -> PyResult<Bound<'py, PyAny>> {
         let times = arrays::vector(times, "times")?;
         check_times(&times).map_err(|e| value_error(&["times"], e))?;
-        let digits = match digits {
-            None => None,
-            Some(d) => Some(u32::try_from(d).unwrap_or(0)),
-        };
         let digits = check_digits(digits).map_err(|e| value_error(&["digits"], e))?;
         let case = self.case.clone();
         let rows = py.detach(move || -> Result<Rows, RowsError> {

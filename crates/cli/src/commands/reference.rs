@@ -124,7 +124,7 @@ fn bytes_per_value(format: RefFormat, digits: Option<u32>) -> f64 {
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let times = times(&args)?;
-    let digits = check_digits(args.digits).map_err(|e| anyhow!("--digits: {e}"))?;
+    let digits = check_digits(args.digits.map(i64::from)).map_err(|e| anyhow!("--digits: {e}"))?;
     if digits.is_some() && args.format == RefFormat::Npy {
         bail!("--format npy holds float64 values: drop --digits, or use --format csv or json");
     }
