@@ -402,6 +402,10 @@ done
 case " ${{args[*]}} " in
   *" --manifest-path"*) exec "{cargo}" "${{args[@]}}" ;;
 esac
+# An option first (`cargo --version`, as maturin asks): no subcommand to add a manifest to.
+case "${{args[0]:-}}" in
+  -*) exec "{cargo}" "${{args[@]}}" ;;
+esac
 case "$PWD/" in
   "$clone"/out/*) exec "{cargo}" "${{args[@]}}" ;;
 esac

@@ -20,7 +20,27 @@ use crate::{harness_error, value_error, Interrupts};
 #[pyclass(module = "rsts", frozen, eq, from_py_object)]
 #[derive(Clone, PartialEq)]
 pub struct Case {
-    pub(crate) case: rsts_harness::Case,
+    /// Strength a of the first field.
+    #[pyo3(get)]
+    a: f64,
+    /// Strength b of the second field.
+    #[pyo3(get)]
+    b: f64,
+    /// Value m of the partial integral of N.
+    #[pyo3(get)]
+    m: f64,
+    /// Energy h.
+    #[pyo3(get)]
+    h: f64,
+    /// The Liouville torus (0-based).
+    #[pyo3(get)]
+    torus: usize,
+    /// Angle psi1 on the torus at t = 0 (radians).
+    #[pyo3(get)]
+    phase1: f64,
+    /// Angle psi2 on the torus at t = 0 (radians).
+    #[pyo3(get)]
+    phase2: f64,
     /// The camera of (m, h): I+, I-, II+, ..., VI.
     #[pyo3(get)]
     camera: String,
@@ -41,18 +61,40 @@ impl Case {
         };
         case.validate().map_err(harness_error)?;
         let (motion, _) = case.reference_motion(64).map_err(harness_error)?;
+        let rsts_harness::Case {
+            a,
+            b,
+            m,
+            h,
+            torus,
+            phase1,
+            phase2,
+            ..
+        } = case;
         Ok(Self {
+            a,
+            b,
+            m,
+            h,
+            torus,
+            phase1,
+            phase2,
             camera: motion.camera.label().to_string(),
-            case,
         })
     }
 
     /// The harness case on `samples` times evenly spaced on [0, t_end].
     pub(crate) fn on_grid(&self, t_end: f64, samples: usize) -> rsts_harness::Case {
         rsts_harness::Case {
+            a: self.a,
+            b: self.b,
+            m: self.m,
+            h: self.h,
+            torus: self.torus,
+            phase1: self.phase1,
+            phase2: self.phase2,
             t_end,
             samples,
-            ..self.case.clone()
         }
     }
 }
@@ -82,44 +124,8 @@ impl Case {
         Self::checked(rsts_harness::Case::default_i_plus())
     }
 
-    /// Strength a of the first field.
-    #[getter]
-    fn a(&self) -> f64 {
-        self.case.a
-    }
-    /// Strength b of the second field.
-    #[getter]
-    fn b(&self) -> f64 {
-        self.case.b
-    }
-    /// Value m of the partial integral of N.
-    #[getter]
-    fn m(&self) -> f64 {
-        self.case.m
-    }
-    /// Energy h.
-    #[getter]
-    fn h(&self) -> f64 {
-        self.case.h
-    }
-    /// The Liouville torus (0-based).
-    #[getter]
-    fn torus(&self) -> usize {
-        self.case.torus
-    }
-    /// Angle psi1 on the torus at t = 0 (radians).
-    #[getter]
-    fn phase1(&self) -> f64 {
-        self.case.phase1
-    }
-    /// Angle psi2 on the torus at t = 0 (radians).
-    #[getter]
-    fn phase2(&self) -> f64 {
-        self.case.phase2
-    }
-
     fn __repr__(&self) -> String {
-        let c = &self.case;
+        let c = self;
         format!(
             "Case(a={:?}, b={:?}, m={:?}, h={:?}, torus={}, phase1={:?}, phase2={:?})",
             c.a, c.b, c.m, c.h, c.torus, c.phase1, c.phase2
@@ -145,7 +151,7 @@ impl Case {
         let times = arrays::vector(times, "times")?;
         check_times(&times).map_err(|e| value_error(&["times"], e))?;
         let digits = check_digits(digits).map_err(|e| value_error(&["digits"], e))?;
-        let case = self.case.clone();
+        let case = self.on_grid(0.0, 1);
         let rows = py.detach(move || -> Result<Rows, RowsError> {
             let table = ReferenceTable::new(&case, &times, digits).map_err(RowsError::Case)?;
             let mut interrupts = Interrupts::new();
