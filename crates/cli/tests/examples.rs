@@ -542,6 +542,9 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
         .arg(&script)
         .current_dir(&sandbox.clone)
         .env("PATH", &sandbox.path)
+        // Tools that run cargo by $CARGO (maturin, under `pip install ./crates/python`) use the
+        // shim too, so that they build this checkout like every other command.
+        .env("CARGO", sandbox.root.join("bin").join("cargo"))
         .env("RSTS_EXAMPLES_RUNNING", "1")
         .stdin(Stdio::null())
         .stdout(log.try_clone().unwrap())
