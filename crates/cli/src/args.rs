@@ -12,7 +12,7 @@ use rsts_dynamics::integrators::{MethodConfig, MethodName, OutputGrid, Problem, 
 use rsts_dynamics::{Fields, State};
 
 /// Largest number of samples accepted (keeps memory use bounded: every sample is kept).
-pub const MAX_SAMPLES: usize = 10_000_000;
+pub use rsts_harness::MAX_SAMPLES;
 
 /// A finite `f64` ("NaN" and "inf" are rejected).
 pub fn finite_f64(s: &str) -> Result<f64, String> {
@@ -263,29 +263,12 @@ impl MethodArgs {
 /// An error of the closed form or of a comparison, prefixed with the options it concerns
 /// (`--m/--h: (m, h) lies on Σ …`, `--t-end/--rtol/--atol: … steps …`).
 pub fn case_error(e: impl Into<rsts_harness::HarnessError>) -> anyhow::Error {
-    use rsts_closed_form::ClosedFormError as C;
-    use rsts_harness::HarnessError as H;
-    let e: H = e.into();
-    let options: String = match &e {
-        H::ClosedForm(c) => match c {
-            C::Parameters(_) => "--a/--b".into(),
-            C::Range(name, _) => format!("--{name}"),
-            C::NotAdmissible(_) | C::OnSigma(_) => "--m/--h".into(),
-            C::NoSuchTorus { .. } => "--torus".into(),
-            C::Internal(_) => String::new(),
-        },
-        H::Dynamics(rsts_dynamics::DynamicsError::Settings(_)) => "--t-end/--rtol/--atol".into(),
-        H::Case(msg) => ["t-end", "samples", "phase1", "phase2", "a", "b", "m", "h"]
-            .into_iter()
-            .find(|name| msg.starts_with(&format!("{name} ")))
-            .map(|name| format!("--{name}"))
-            .unwrap_or_default(),
-        _ => String::new(),
-    };
-    if options.is_empty() {
+    let e: rsts_harness::HarnessError = e.into();
+    let names = e.parameters();
+    if names.is_empty() {
         anyhow::anyhow!("{e}")
     } else {
-        anyhow::anyhow!("{options}: {e}")
+        anyhow::anyhow!("--{}: {e}", names.join("/--"))
     }
 }
 

@@ -12,7 +12,7 @@
 //! non-zero, or that changes a tracked file, fails the test with the file, line and command.
 //!
 //! Markers, as comment lines inside a block:
-//! - `# needs: heyoka` (or scipy, node, chromium, slurm; several separated by commas): the
+//! - `# needs: heyoka` (or scipy, python, node, chromium, slurm; several separated by commas): the
 //!   commands after it, up to the next blank line, run only when that tool is there (a remark in
 //!   parentheses may follow: `# needs: slurm (run by sbatch)`); otherwise
 //!   they are skipped with a message (`rsts_io::report_skip`, counted by scripts/test.sh).
@@ -34,7 +34,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// Optional tools a `# needs:` marker may name.
-const TOOLS: [&str; 5] = ["heyoka", "scipy", "node", "chromium", "slurm"];
+const TOOLS: [&str; 6] = ["heyoka", "scipy", "python", "node", "chromium", "slurm"];
 /// Virtual environments of optional tools, shared with the clone when the checkout has them.
 const VENVS: [&str; 2] = [".venv-adapters", ".venv-heyoka"];
 /// How long a `# takes:` command runs before it is stopped: long enough to get past argument
@@ -313,6 +313,15 @@ fn tool_available(tool: &str) -> bool {
                 &["-c", &format!("import {tool}")],
             )
         }),
+        // Python 3.9 or later that can make a virtual environment (docs/python.md makes one and
+        // installs the package into it).
+        "python" => ok(
+            "python3",
+            &[
+                "-c",
+                "import sys, venv, ensurepip; sys.exit(sys.version_info < (3, 9))",
+            ],
+        ),
         "node" => ok("node", &["--version"]),
         "chromium" => ok("chromium", &["--version"]),
         "slurm" => ok("sbatch", &["--version"]),
@@ -392,6 +401,10 @@ for a in "$@"; do
 done
 case " ${{args[*]}} " in
   *" --manifest-path"*) exec "{cargo}" "${{args[@]}}" ;;
+esac
+# An option first (`cargo --version`, as maturin asks): no subcommand to add a manifest to.
+case "${{args[0]:-}}" in
+  -*) exec "{cargo}" "${{args[@]}}" ;;
 esac
 case "$PWD/" in
   "$clone"/out/*) exec "{cargo}" "${{args[@]}}" ;;
@@ -529,6 +542,9 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
         .arg(&script)
         .current_dir(&sandbox.clone)
         .env("PATH", &sandbox.path)
+        // Tools that run cargo by $CARGO (maturin, under `pip install ./crates/python`) use the
+        // shim too, so that they build this checkout like every other command.
+        .env("CARGO", sandbox.root.join("bin").join("cargo"))
         .env("RSTS_EXAMPLES_RUNNING", "1")
         .stdin(Stdio::null())
         .stdout(log.try_clone().unwrap())

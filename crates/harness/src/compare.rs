@@ -178,3 +178,25 @@ pub fn compare_integrator(
     }
     Ok(analysis.finish())
 }
+
+/// A report with a non-finite figure is an error naming it (the integrated motion left f64's
+/// range), never a number shown as a result: `rsts compare`, `rsts check` and the Python package.
+pub fn check_finite_report(r: &Report) -> Result<(), HarnessError> {
+    for (name, x) in [
+        ("max state error", r.max_state_error),
+        ("final state error", r.final_state_error),
+        ("max orientation error", r.max_orientation_error),
+        ("drift of H", r.drift.h),
+        ("drift of K", r.drift.k),
+        ("drift of G", r.drift.g),
+        ("constraint drift", r.drift.constraints),
+        ("distance from N", r.drift.off_n),
+    ] {
+        if !x.is_finite() {
+            return Err(HarnessError::Integrator(format!(
+                "the comparison produced a non-finite {name} ({x}): the integrated motion left f64's range"
+            )));
+        }
+    }
+    Ok(())
+}

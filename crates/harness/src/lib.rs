@@ -26,16 +26,18 @@ pub mod check;
 mod compare;
 pub mod geometry;
 pub mod growth;
+pub mod identify;
 pub mod integrator;
 mod metrics;
+pub mod reference;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
 pub use bench::{measure, measure_against, measure_integrator, BenchRow, Reference};
 pub use case::Case;
 pub use check::{check, Check, CheckReport, CheckRequest, CheckedCase, GivenMotion};
 pub use compare::{
-    compare, compare_integrator, preflight, reference_bits, reference_bits_for, run_info,
-    CompareOptions, DEFAULT_PIECES, REFERENCE_GUARD_BITS,
+    check_finite_report, compare, compare_integrator, preflight, reference_bits,
+    reference_bits_for, run_info, CompareOptions, DEFAULT_PIECES, REFERENCE_GUARD_BITS,
 };
 pub use integrator::{check_times, Integrator, Propagated, Trajectory};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot};
@@ -55,4 +57,38 @@ pub enum HarnessError {
     /// An integrator failed (an external process: what it did and the end of its stderr).
     #[error("{0}")]
     Integrator(String),
+}
+
+/// Largest number of samples or times a run accepts (every sample is kept in memory by some
+/// outputs): the same limit for the CLI and the Python package.
+pub const MAX_SAMPLES: usize = 10_000_000;
+
+impl HarnessError {
+    /// The parameters an error concerns (`["m", "h"]` for a point on Σ, `["torus"]` for a
+    /// missing torus, …; empty when it names none): the CLI writes them as options (`--m/--h:`),
+    /// the Python package as its arguments (`m/h:`), in front of the same message.
+    pub fn parameters(&self) -> Vec<String> {
+        use rsts_closed_form::ClosedFormError as C;
+        let names: &[&str] = match self {
+            HarnessError::ClosedForm(c) => match c {
+                C::Parameters(_) => &["a", "b"],
+                C::Range(name, _) => return vec![name.to_string()],
+                C::NotAdmissible(_) | C::OnSigma(_) => &["m", "h"],
+                C::NoSuchTorus { .. } => &["torus"],
+                C::Internal(_) => &[],
+            },
+            HarnessError::Dynamics(rsts_dynamics::DynamicsError::Settings(_)) => {
+                &["t-end", "rtol", "atol"]
+            }
+            HarnessError::Case(msg) => {
+                return ["t-end", "samples", "phase1", "phase2", "a", "b", "m", "h"]
+                    .into_iter()
+                    .find(|name| msg.starts_with(&format!("{name} ")))
+                    .map(|name| vec![name.to_string()])
+                    .unwrap_or_default()
+            }
+            _ => &[],
+        };
+        names.iter().map(|n| n.to_string()).collect()
+    }
 }

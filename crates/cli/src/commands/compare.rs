@@ -349,21 +349,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
 
 /// A non-finite figure is an error naming it, never a number printed with exit 0.
 pub(crate) fn check_finite_report(r: &Report) -> anyhow::Result<()> {
-    for (name, x) in [
-        ("max state error", r.max_state_error),
-        ("final state error", r.final_state_error),
-        ("max orientation error", r.max_orientation_error),
-        ("drift of H", r.drift.h),
-        ("drift of K", r.drift.k),
-        ("drift of G", r.drift.g),
-        ("constraint drift", r.drift.constraints),
-        ("distance from N", r.drift.off_n),
-    ] {
-        if !x.is_finite() {
-            bail!("the comparison produced a non-finite {name} ({x}): the integrated motion left f64's range");
-        }
-    }
-    Ok(())
+    rsts_harness::check_finite_report(r).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
 /// The report as `key: value` lines; `span` is the time interval, `case` (a, b, m, h, torus).

@@ -7,15 +7,12 @@ use std::io::Write;
 use anyhow::{bail, Context};
 use clap::{Args as ClapArgs, ValueEnum};
 use rug::Float;
-use serde::Serialize;
-use serde_json::{json, Value};
 
 use rsts_closed_form::diagram::tori_text;
-use rsts_closed_form::manifold::{distance, identify, normal_type, IdentifyError};
 use rsts_closed_form::scalar::Scalar;
-use rsts_closed_form::IntegralConstants;
 use rsts_dynamics::scalar::{bits_for_digits, F64_BITS};
-use rsts_dynamics::{Fields, Real, State};
+use rsts_dynamics::{Real, State};
+use rsts_harness::identify::{identify_state, Identification};
 
 use crate::args::ExactFieldArgs;
 use crate::commands::explicit::MAX_DIGITS;
@@ -113,24 +110,12 @@ fn read3<T: Real>(name: &str, s: &str, bits: u32) -> anyhow::Result<[T; 3]> {
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    if args.tolerance.is_nan() || args.tolerance <= 0.0 {
-        bail!("--tolerance: must be positive, got {}", args.tolerance);
-    }
     match args.digits {
         None => run_in::<f64>(&args, F64_BITS, 17, out),
         Some(d) if (16..=MAX_DIGITS).contains(&d) => {
             run_in::<Float>(&args, bits_for_digits(d), d, out)
         }
         Some(d) => bail!("--digits: must be between 16 and {MAX_DIGITS}, got {d}"),
-    }
-}
-
-/// A number for JSON: an f64 number up to 17 digits, else a decimal string.
-fn number<T: Real>(x: &T, digits: u32) -> Value {
-    if digits <= 17 {
-        json!(x.to_f64())
-    } else {
-        json!(x.to_decimal(digits))
     }
 }
 
@@ -147,26 +132,30 @@ fn run_in<T: Scalar>(
         alpha: read3("alpha", &args.alpha, bits)?,
         beta: read3("beta", &args.beta, bits)?,
     };
-    if !(b > b.zero_like() && a > b) {
-        bail!(
-            "--a/--b: need a > b > 0 (N exists only there), got a = {}, b = {}",
-            args.fields.a,
-            args.fields.b
-        );
-    }
-    // The fields' documented range (docs/closed-form.md), as for every other command.
-    if let Err(rsts_closed_form::ClosedFormError::Range(name, why)) =
-        rsts_closed_form::check_ranges(&a, &b, &a.zero_like(), &a.zero_like())
-    {
-        bail!("--{name}: {why}");
-    }
-    state.validate().context("--omega/--alpha/--beta")?;
-    let fields = Fields {
-        a: a.clone(),
-        b: b.clone(),
+    let (doc, id) = match identify_state(&a, &b, &state, args.tolerance, digits) {
+        Err(e) if e.parameters.is_empty() => bail!("{}", e.message),
+        Err(e) => bail!("--{}: {}", e.parameters.join("/--"), e.message),
+        Ok(Identification::OffN(off)) => {
+            match args.format {
+                IdentifyFormat::Json => output::write_json(out, &off)?,
+                IdentifyFormat::Table => output::write_key_values(
+                    out,
+                    &[
+                        ("on N", "no".to_string()),
+                        ("distance from N", format!("{:.6e}", off.distance_from_n)),
+                        (
+                            "relative distance",
+                            format!("{:.6e}", off.relative_distance_from_n),
+                        ),
+                        ("tolerance", format!("{:e}", args.tolerance)),
+                    ],
+                )?,
+            }
+            return Err(NotOnN(off.message()).into());
+        }
+        Ok(Identification::OnN(doc, id)) => (doc, id),
     };
-    let d = distance(&fields, &state);
-    let relative = d.relative.to_f64();
+    let relative = doc.relative_distance_from_n;
     // Shortest f64 text in f64, all digits otherwise.
     let text = |x: &T| {
         if digits <= 17 {
@@ -174,62 +163,6 @@ fn run_in<T: Scalar>(
         } else {
             x.to_decimal(digits)
         }
-    };
-    if relative > args.tolerance {
-        let message = format!(
-            "not on N (distance {:.3e}, relative {relative:.3e} > tolerance {:e})",
-            d.distance.to_f64(),
-            args.tolerance
-        );
-        match args.format {
-            IdentifyFormat::Json => output::write_json(
-                out,
-                &json!({
-                    "on_N": false,
-                    "distance_from_N": d.distance.to_f64(),
-                    "relative_distance_from_N": relative,
-                    "tolerance": args.tolerance,
-                }),
-            )?,
-            IdentifyFormat::Table => output::write_key_values(
-                out,
-                &[
-                    ("on N", "no".to_string()),
-                    ("distance from N", format!("{:.6e}", d.distance.to_f64())),
-                    ("relative distance", format!("{relative:.6e}")),
-                    ("tolerance", format!("{:e}", args.tolerance)),
-                ],
-            )?,
-        }
-        return Err(NotOnN(message).into());
-    }
-    let id = identify(&a, &b, &state).map_err(|e| match e {
-        IdentifyError::Input(msg) => anyhow::anyhow!("--omega/--alpha/--beta: {msg}"),
-        IdentifyError::NoTorus { m, h, reason, .. } => {
-            anyhow::anyhow!("the state is on N but (m, h) = ({m}, {h}) has no torus: {reason}")
-        }
-    })?;
-    let constants = IntegralConstants::unchecked(a.clone(), b.clone(), id.m.clone(), id.h.clone());
-    let normal = normal_type(&constants);
-    let doc = Document {
-        on_n: true,
-        a: number(&a, digits),
-        b: number(&b, digits),
-        m: number(&id.m, digits),
-        h: number(&id.h, digits),
-        camera: id.camera.label(),
-        tori: id.tori,
-        torus: id.torus,
-        phase1: number(&id.phases[0], digits),
-        phase2: number(&id.phases[1], digits),
-        distance_from_n: id.distance.distance.to_f64(),
-        relative_distance_from_n: relative,
-        residual: id.residual.to_f64(),
-        normal: NormalDoc {
-            kind: normal.kind.as_str(),
-            lambda2: normal.lambda2.to_f64(),
-        },
-        digits,
     };
     match args.format {
         IdentifyFormat::Json => output::write_json(out, &doc)?,
@@ -262,33 +195,4 @@ fn run_in<T: Scalar>(
         )?,
     }
     Ok(())
-}
-
-#[derive(Debug, Serialize)]
-struct NormalDoc {
-    #[serde(rename = "type")]
-    kind: &'static str,
-    lambda2: f64,
-}
-
-#[derive(Debug, Serialize)]
-struct Document {
-    #[serde(rename = "on_N")]
-    on_n: bool,
-    a: Value,
-    b: Value,
-    m: Value,
-    h: Value,
-    camera: &'static str,
-    tori: usize,
-    torus: usize,
-    phase1: Value,
-    phase2: Value,
-    #[serde(rename = "distance_from_N")]
-    distance_from_n: f64,
-    #[serde(rename = "relative_distance_from_N")]
-    relative_distance_from_n: f64,
-    residual: f64,
-    normal: NormalDoc,
-    digits: u32,
 }

@@ -10,10 +10,8 @@ use clap::{Args as ClapArgs, ValueEnum};
 use rug::Float;
 use serde_json::{json, Value};
 
-use rsts_dynamics::integrals;
 use rsts_dynamics::integrators::OutputGrid;
-use rsts_dynamics::scalar::bits_for_digits;
-use rsts_harness::{Analysis, RunInfo, REFERENCE_GUARD_BITS};
+use rsts_harness::reference::{check_digits, ReferenceTable, COLUMNS};
 
 use crate::args::{case_error, count, finite_f64, CaseArgs, MAX_SAMPLES};
 use crate::output;
@@ -111,25 +109,7 @@ fn times(args: &Args) -> anyhow::Result<Vec<f64>> {
         }
         _ => bail!("give the times: --times T0,T1,..., --times-file FILE or --t-end T --samples N"),
     };
-    if times.is_empty() {
-        bail!("{what}: no times");
-    }
-    if times.len() > MAX_SAMPLES {
-        bail!(
-            "{what}: at most {MAX_SAMPLES} times are supported, got {}",
-            times.len()
-        );
-    }
-    for (k, w) in times.windows(2).enumerate() {
-        if w[1] <= w[0] {
-            bail!(
-                "{what}: times must be strictly increasing: time {} ({}) does not come after {}",
-                k + 2,
-                w[1],
-                w[0]
-            );
-        }
-    }
+    rsts_harness::reference::check_times(&times).map_err(|e| anyhow!("{what}: {e}"))?;
     Ok(times)
 }
 
@@ -142,20 +122,9 @@ fn bytes_per_value(format: RefFormat, digits: Option<u32>) -> f64 {
     }
 }
 
-/// Names of the 13 columns: t, the state, H, K, G.
-fn column_names() -> Vec<&'static str> {
-    let mut header: Vec<&str> = rsts_external::COLUMNS.to_vec();
-    header.extend(["H", "K", "G"]);
-    header
-}
-
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let times = times(&args)?;
-    let digits = match args.digits {
-        None => None,
-        Some(d) if (18..=10_000).contains(&d) => Some(d),
-        Some(d) => bail!("--digits: must be between 18 and 10000 (without it: f64), got {d}"),
-    };
+    let digits = check_digits(args.digits.map(i64::from)).map_err(|e| anyhow!("--digits: {e}"))?;
     if digits.is_some() && args.format == RefFormat::Npy {
         bail!("--format npy holds float64 values: drop --digits, or use --format csv or json");
     }
@@ -167,49 +136,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         "the reference",
         times.len() as f64 * 13.0 * bytes_per_value(args.format, digits),
     )?;
-    let bits = bits_for_digits(digits.unwrap_or(30)) + REFERENCE_GUARD_BITS;
-    // The motion is built for the largest |t| asked (its phase clock carries the bits it needs).
-    let t_max = times.iter().fold(0.0, |m: f64, t| m.max(t.abs()));
-    let case = args.case.case(t_max, 1);
-    case.validate().map_err(case_error)?;
-    let info = RunInfo {
-        method: "reference".into(),
-        rtol: None,
-        atol: None,
-        digits: digits.unwrap_or(15),
-    };
-    let analysis = Analysis::for_case(&case, bits, info).map_err(case_error)?;
+    let case = args.case.case(0.0, 1);
+    let table = ReferenceTable::new(&case, &times, digits).map_err(case_error)?;
     if let Some(path) = &args.output {
         rsts_io::check_writable(path).with_context(|| format!("-o {}", path.display()))?;
     }
-    // One row at a time: t and the nine components, then H, K, G, at the reference precision
-    // (memory does not grow with the number of times).
-    let names = column_names();
-    let row = |t: f64| -> anyhow::Result<Vec<Float>> {
-        let tf = Float::with_val(bits, t);
-        let s = analysis.exact_state(&tf);
-        let i = integrals(analysis.fields(), &s);
-        let mut row = vec![tf];
-        row.extend(s.to_array());
-        row.extend([i.h, i.k, i.g]);
-        // A non-finite value is an error naming where it appeared, never a number printed.
-        if let Some(c) = row
-            .iter()
-            .position(|x| !x.is_finite() || !x.to_f64().is_finite())
-        {
-            bail!(
-                "the closed form is not finite at t = {}: {} = {} (outside f64's range)",
-                rsts_dynamics::short(t),
-                names[c],
-                row[c].to_f64()
-            );
-        }
-        Ok(row)
-    };
-    let text = |x: &Float| match digits {
-        Some(d) => x.to_string_radix(10, Some(d as usize)),
-        None => format!("{:?}", x.to_f64()),
-    };
+    // One row at a time, at the reference precision (memory does not grow with the number of
+    // times).
+    let row = |t: f64| table.row(t).map_err(|e| anyhow!(e));
+    let text = |x: &Float| table.text(x);
     let write = |w: &mut dyn Write| -> anyhow::Result<()> {
         match args.format {
             RefFormat::Npy => {
@@ -221,7 +156,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 }
             }
             RefFormat::Csv => {
-                writeln!(w, "{}", names.join(","))?;
+                writeln!(w, "{}", COLUMNS.join(","))?;
                 for &t in &times {
                     let r: Vec<String> = row(t)?.iter().map(text).collect();
                     writeln!(w, "{}", r.join(","))?;
@@ -241,7 +176,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                     ("b", json!(c.b)),
                     ("m", json!(c.m)),
                     ("h", json!(c.h)),
-                    ("camera", json!(analysis.motion().camera.label())),
+                    ("camera", json!(table.analysis().motion().camera.label())),
                     ("torus", json!(c.torus)),
                     ("phase1", json!(c.phase1)),
                     ("phase2", json!(c.phase2)),

@@ -1,0 +1,257 @@
+//! `rsts.compare`: a built-in method or a Python callable against the closed form
+//! (`rsts compare --format json`), and the callable as a harness [`Integrator`].
+
+use std::time::Instant;
+
+use numpy::PyArray1;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use rug::Float;
+
+use rsts_dynamics::integrators::{MethodConfig, MethodName, Problem, Stats, Tolerances};
+use rsts_dynamics::State;
+use rsts_harness::{
+    check_finite_report, check_times, compare_integrator, preflight, CompareOptions, HarnessError,
+    Integrator, Observer, Report, SampleRecord, Trajectory, MAX_SAMPLES,
+};
+
+use crate::case::{whole, Case};
+use crate::{arrays, harness_error, report_dict, value_error, Interrupts};
+
+/// A Python callable `f(x0, times, a, b, rtol, atol)` as an integrator: called once per run
+/// (not restartable), with numpy arrays, the GIL held during the call.
+pub(crate) struct Callable {
+    func: Py<PyAny>,
+    name: String,
+    tolerances: Tolerances,
+    /// The exception of the call or of its answer, raised as it is after the run.
+    pub(crate) error: Option<PyErr>,
+}
+
+impl Callable {
+    pub(crate) fn new(func: &Bound<'_, PyAny>, tolerances: Tolerances) -> PyResult<Self> {
+        let name = func
+            .getattr("__qualname__")
+            .or_else(|_| func.getattr("__name__"))
+            .and_then(|n| n.extract::<String>())
+            .unwrap_or_else(|_| "python".into());
+        Ok(Self {
+            func: func.clone().unbind(),
+            name,
+            tolerances,
+            error: None,
+        })
+    }
+
+    /// Call the function and read its answer: (len(times), 9) finite values.
+    fn call(
+        &self,
+        py: Python<'_>,
+        problem: &Problem<Float>,
+        times: &[f64],
+    ) -> PyResult<(Vec<[f64; 9]>, f64)> {
+        let x0: Vec<f64> = problem
+            .initial
+            .to_array()
+            .iter()
+            .map(Float::to_f64)
+            .collect();
+        let x0 = PyArray1::from_vec(py, x0);
+        let t = PyArray1::from_slice(py, times);
+        let (a, b) = (problem.fields.a.to_f64(), problem.fields.b.to_f64());
+        let tol = self.tolerances;
+        let start = Instant::now();
+        let out = self
+            .func
+            .call1(py, (x0, t, a, b, tol.rtol, tol.atol))?
+            .into_bound(py);
+        let seconds = start.elapsed().as_secs_f64();
+        let what = format!("the integrator {} returned", self.name);
+        if out.cast::<numpy::PyUntypedArray>().is_err() {
+            return Err(PyValueError::new_err(format!(
+                "{what} {}, not a numpy array of shape ({}, 9)",
+                arrays::describe(&out),
+                times.len()
+            )));
+        }
+        let states = arrays::states(&out, &what, Some(times.len()), Some(times))?;
+        Ok((states, seconds))
+    }
+}
+
+impl Integrator for Callable {
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+
+    fn tolerances(&self) -> Option<Tolerances> {
+        Some(self.tolerances)
+    }
+
+    fn working_bits(&self) -> u32 {
+        rsts_dynamics::scalar::F64_BITS
+    }
+
+    fn integrate(
+        &mut self,
+        problem: &Problem<Float>,
+        times: &[f64],
+    ) -> Result<Trajectory, HarnessError> {
+        check_times(times)?;
+        let bits = problem.initial.omega[0].prec();
+        match Python::attach(|py| self.call(py, problem, times)) {
+            Ok((rows, seconds)) => Ok(Trajectory {
+                times: times.to_vec(),
+                states: rows
+                    .iter()
+                    .map(|r| State::from_slice(r).map(|x| Float::with_val(bits, *x)))
+                    .collect(),
+                stats: Stats {
+                    integration_seconds: seconds,
+                    ..Stats::default()
+                },
+                wall_seconds: None,
+            }),
+            Err(e) => {
+                let text = Python::attach(|py| e.value(py).to_string());
+                self.error = Some(e);
+                Err(HarnessError::Integrator(text))
+            }
+        }
+    }
+
+    fn restartable(&self) -> bool {
+        false
+    }
+}
+
+/// Stops a run on Ctrl-C (polled between samples and pieces).
+pub(crate) struct Watch(pub(crate) Interrupts);
+
+impl Observer for Watch {
+    fn on_sample(&mut self, _record: &SampleRecord) -> Result<(), String> {
+        if self.0.stopped() {
+            return Err("interrupted".into());
+        }
+        Ok(())
+    }
+
+    fn should_stop(&self) -> bool {
+        self.0.error.is_some()
+    }
+}
+
+/// The integrator of a comparison: a built-in method or a callable.
+enum Chosen {
+    Method(MethodConfig),
+    Callable(Callable),
+}
+
+/// Compare an integrator with the closed form along `case` (default: `Case.default()`) at
+/// `samples` times evenly spaced on [0, t_end]: a dict with the keys of
+/// `rsts compare --format json` (method, rtol, atol, digits, camera, samples_compared,
+/// max_state_error, final_state_error, drift, steps, rhs_evals, integration_seconds, normal,
+/// phase_error, error_split, ...).
+///
+/// `integrator` is a built-in method name (rsts.METHODS: "rk4", "dopri5", "dop853",
+/// "taylor-f64", "taylor-dd", "taylor-mp"; `digits` sets taylor-mp's) or a callable
+/// `f(x0, times, a, b, rtol, atol)` returning a float array of shape (len(times), 9): the states
+/// (omega, alpha, beta) at `times` from x0 at times[0] = 0. It is called once, in this process,
+/// with numpy arrays; its time is measured around the call (integration_seconds). An exception
+/// it raises propagates unchanged; an answer of the wrong shape, with NaN, or not an array
+/// raises ValueError naming what was wrong.
+///
+/// The GIL is released while Rust works; Ctrl-C raises KeyboardInterrupt.
+#[pyfunction]
+#[pyo3(signature = (integrator, case = None, t_end = 100.0, samples = 1001, rtol = 1e-10, atol = 1e-10, digits = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn compare<'py>(
+    py: Python<'py>,
+    integrator: &Bound<'py, PyAny>,
+    case: Option<Case>,
+    t_end: f64,
+    samples: i64,
+    rtol: f64,
+    atol: f64,
+    digits: Option<i64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let case = match case {
+        Some(c) => c,
+        None => Case::checked(rsts_harness::Case::default_i_plus())?,
+    };
+    let samples = whole("samples", samples)?;
+    if samples > MAX_SAMPLES {
+        return Err(value_error(
+            &["samples"],
+            format!("at most {MAX_SAMPLES} samples are supported, got {samples}"),
+        ));
+    }
+    let tolerances = Tolerances::new(rtol, atol).map_err(|e| value_error(&["rtol", "atol"], e))?;
+    let mut chosen = if let Ok(name) = integrator.extract::<String>() {
+        let method: MethodName = name.parse().map_err(|e| value_error(&["integrator"], e))?;
+        let mut config =
+            MethodConfig::new(method, tolerances, None).map_err(|e| value_error(&["rtol"], e))?;
+        if let Some(d) = digits {
+            config = config
+                .with_digits(u32::try_from(d).unwrap_or(0))
+                .map_err(|e| value_error(&["digits"], e))?;
+        }
+        Chosen::Method(config)
+    } else if integrator.is_callable() {
+        Chosen::Callable(Callable::new(integrator, tolerances)?)
+    } else {
+        return Err(value_error(
+            &["integrator"],
+            format!(
+                "expected a method name (one of {}) or a callable f(x0, times, a, b, rtol, atol), got {}",
+                MethodName::ALL.map(|m| m.as_str()).join(", "),
+                arrays::describe(integrator)
+            ),
+        ));
+    };
+    let case = case.on_grid(t_end, samples);
+    case.validate().map_err(harness_error)?;
+    let result = py.detach(|| {
+        match &chosen {
+            Chosen::Method(config) => preflight(&case, config)?,
+            Chosen::Callable(_) => {
+                case.reference_motion(64)?;
+            }
+        }
+        let mut watch = Watch(Interrupts::new());
+        let integrator: &mut dyn Integrator = match &mut chosen {
+            Chosen::Method(config) => config,
+            Chosen::Callable(callable) => callable,
+        };
+        let options = CompareOptions::default();
+        let result = compare_integrator(&case, integrator, &options, &mut watch);
+        Ok::<_, HarnessError>((result, watch.0.take()))
+    });
+    let report: Report = finish(result, chosen_error(&mut chosen))?;
+    // A report with a non-finite figure is an error, as in the CLI.
+    check_finite_report(&report).map_err(harness_error)?;
+    report_dict(py, &report)
+}
+
+fn chosen_error(chosen: &mut Chosen) -> Option<PyErr> {
+    match chosen {
+        Chosen::Callable(c) => c.error.take(),
+        Chosen::Method(_) => None,
+    }
+}
+
+/// The report of a run, or the exception that stopped it: the callable's own, then Ctrl-C's,
+/// then the harness's error as ValueError/RuntimeError.
+pub(crate) fn finish<R>(
+    result: Result<(Result<R, HarnessError>, Option<PyErr>), HarnessError>,
+    callable_error: Option<PyErr>,
+) -> PyResult<R> {
+    if let Some(e) = callable_error {
+        return Err(e);
+    }
+    let (result, interrupt) = result.map_err(harness_error)?;
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
+    result.map_err(harness_error)
+}

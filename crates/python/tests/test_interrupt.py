@@ -1,0 +1,59 @@
+"""Long Rust work releases the GIL, and Ctrl-C (SIGINT) stops it with KeyboardInterrupt: in the
+reference, in a built-in comparison, and inside a Python integrator."""
+
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import rsts
+
+
+def ctrl_c_after(seconds):
+    timer = threading.Timer(seconds, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    return timer
+
+
+@pytest.mark.parametrize("work", [
+    # about 30 s of closed form, 1 min of integration and analysis on an idle machine
+    lambda: rsts.Case.default().reference(np.linspace(0.0, 1e4, 1_000_000)),
+    lambda: rsts.compare("dop853", t_end=1e5, samples=1_000_001, rtol=1e-12, atol=1e-12),
+    lambda: rsts.compare(lambda *args: time.sleep(60), t_end=1.0, samples=3),
+], ids=["reference", "compare", "callable"])
+def test_ctrl_c_raises_keyboardinterrupt(work):
+    timer = ctrl_c_after(0.5)
+    start = time.monotonic()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            work()
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 10
+
+
+def test_the_gil_is_released_during_the_reference():
+    ticks = []
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.001)
+
+    thread = threading.Thread(target=count)
+    thread.start()
+    time.sleep(0.05)
+    try:
+        start = time.monotonic()
+        rsts.Case.default().reference(np.linspace(0.0, 100.0, 20_000))
+        end = time.monotonic()
+    finally:
+        stop.set()
+        thread.join()
+    during = [t for t in ticks if start < t < end]
+    # With the GIL held for the whole call the other thread could not run at all.
+    assert len(during) >= 50, (len(during), end - start)
