@@ -535,6 +535,14 @@ impl FixedStepIntegrator for Exec {
         Integrator::name(self)
     }
 
+    fn label(&self) -> String {
+        format!(
+            "{} (external integrator `{}`)",
+            Integrator::name(self),
+            self.command_line()
+        )
+    }
+
     fn working_bits(&self) -> u32 {
         Integrator::working_bits(self)
     }

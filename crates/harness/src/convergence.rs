@@ -31,6 +31,10 @@ use crate::HarnessError;
 pub trait FixedStepIntegrator {
     /// Name in the rows and fits.
     fn name(&self) -> String;
+    /// How messages name it (default: its name; an external one adds its command).
+    fn label(&self) -> String {
+        self.name()
+    }
     /// Bits of its scalar (the reference is evaluated beyond them).
     fn working_bits(&self) -> u32;
     /// The states at `times` (an even grid whose spacing is a whole multiple of `step`),
@@ -275,14 +279,14 @@ pub fn convergence(
     let mut rows = Vec::new();
     let mut fits = Vec::new();
     for method in methods.iter_mut() {
-        let name = method.name();
+        let label = method.label();
         let mut first: Option<Vec<_>> = None;
         let mut changed = false;
         let mut mine = Vec::new();
         for &h in &plan.steps {
             let traj = method
                 .integrate_at(h, &problem, reference.times())
-                .map_err(|e| HarnessError::Integrator(format!("{name} at step {h}: {e}")))?;
+                .map_err(|e| HarnessError::Integrator(format!("{label} at step {h}: {e}")))?;
             match &first {
                 None => first = Some(traj.states.clone()),
                 Some(f) => changed |= *f != traj.states,
@@ -293,7 +297,7 @@ pub fn convergence(
                 traj.states.get(last..).unwrap_or(&[]),
             )?;
             mine.push(ConvergenceRow {
-                method: name.clone(),
+                method: String::new(),
                 step: h,
                 max_error,
                 final_error,
@@ -301,16 +305,21 @@ pub fn convergence(
                 rhs_evals: traj.stats.rhs_evals,
             });
         }
+        // An external integrator names itself in its answers.
+        let name = method.name();
+        for r in &mut mine {
+            r.method.clone_from(&name);
+        }
         if !changed {
             return Err(HarnessError::Integrator(format!(
-                "{name}: its answers do not change with the step (it ignores the fixed step \
+                "{label}: its answers do not change with the step (it ignores the fixed step \
                  asked); an order cannot be fitted"
             )));
         }
         let steps: Vec<f64> = mine.iter().map(|r| r.step).collect();
         let errors: Vec<f64> = mine.iter().map(|r| r.max_error).collect();
         let fit = fit_order(&steps, &errors)
-            .map_err(|e| HarnessError::Integrator(format!("{name}: {e}")))?;
+            .map_err(|e| HarnessError::Integrator(format!("{label}: {e}")))?;
         fits.push(OrderFit {
             method: name,
             ..fit

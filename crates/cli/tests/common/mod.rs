@@ -77,3 +77,23 @@ pub fn entries(d: &Path) -> Vec<String> {
     v.sort();
     v
 }
+
+/// The compiled example adapter: beside the rsts binary (built by `cargo test --workspace`), or
+/// built now into its own target directory.
+pub fn adapter_rk4() -> PathBuf {
+    let rsts = PathBuf::from(env!("CARGO_BIN_EXE_rsts"));
+    let beside = rsts.with_file_name("example-adapter-rk4");
+    if beside.exists() {
+        return beside;
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = root.join("target/adapter-build");
+    let status = Command::new(env!("CARGO"))
+        .args(["build", "--release", "--quiet", "-p", "example-adapter-rk4"])
+        .env("CARGO_TARGET_DIR", &dir)
+        .current_dir(&root)
+        .status()
+        .expect("run cargo");
+    assert!(status.success(), "cargo build -p example-adapter-rk4");
+    dir.join("release/example-adapter-rk4")
+}
