@@ -7,7 +7,7 @@ use std::process::Command;
 use serde_json::Value;
 
 mod common;
-use common::{adapter_rk4, exit_2, rsts, s, stderr, tmp};
+use common::{adapter_command, adapter_rk4, exit_2, python_with, rsts, s, stderr, tmp};
 
 fn json(args: &[&str]) -> Value {
     let mut all = vec!["convergence"];
@@ -228,5 +228,66 @@ fn bad_input_names_the_option() {
         all.extend_from_slice(&args);
         let err = exit_2(&rsts(&all), &args);
         assert!(err.contains(option), "{args:?}: {err}");
+    }
+}
+
+/// scipy's RK45 at fixed steps (its control off) against our dopri5 at fixed steps: the same
+/// tableau, so the same errors step by step above the floor, and order 5 for both; heyoka at
+/// tolerance 1e-3 (order 5) comes out at 5. Skipped without scipy / heyoka.
+#[test]
+fn scipy_and_heyoka_take_the_fixed_step() {
+    if let Some(python) = python_with("scipy", "scipy_and_heyoka_take_the_fixed_step (scipy)") {
+        let rk45 = adapter_command(&python, "scipy_adapter.py", "RK45");
+        let report = json(&[
+            "--methods",
+            "dopri5",
+            "--exec",
+            &rk45,
+            "--step",
+            "0.5",
+            "--halvings",
+            "6",
+        ]);
+        let rows = report["rows"].as_array().unwrap();
+        let (ours, theirs): (Vec<&Value>, Vec<&Value>) =
+            rows.iter().partition(|r| r["method"] == "dopri5");
+        assert_eq!(ours.len(), 7);
+        for (a, b) in ours.iter().zip(&theirs) {
+            let (ea, eb) = (
+                a["max_error"].as_f64().unwrap(),
+                b["max_error"].as_f64().unwrap(),
+            );
+            assert!((ea - eb).abs() <= 0.01 * ea, "{a} against {b}");
+        }
+        for fit in report["fits"].as_array().unwrap() {
+            assert!((fit["order"].as_f64().unwrap() - 5.0).abs() < 0.1, "{fit}");
+        }
+        check_against_python(&report);
+        let radau = adapter_command(&python, "scipy_adapter.py", "Radau");
+        let err = exit_2(
+            &rsts(&["convergence", "--exec", &radau, "--steps", "0.5,0.25,0.125"]),
+            "Radau",
+        );
+        assert!(err.contains("Radau cannot take a fixed step"), "{err}");
+    }
+    if let Some(python) = python_with("heyoka", "scipy_and_heyoka_take_the_fixed_step (heyoka)") {
+        let hy = adapter_command(&python, "heyoka_adapter.py", "f64");
+        let report = json(&[
+            "--exec",
+            &hy,
+            "--exec-tolerance",
+            "1e-3",
+            "--step",
+            "0.125",
+            "--halvings",
+            "6",
+        ]);
+        let fit = &report["fits"][0];
+        assert!((fit["order"].as_f64().unwrap() - 5.0).abs() < 0.1, "{fit}");
+        let err = exit_2(
+            &rsts(&["convergence", "--exec", &hy, "--steps", "1,0.5,0.25"]),
+            "heyoka at step 1",
+        );
+        assert!(err.contains("too large for its order"), "{err}");
     }
 }

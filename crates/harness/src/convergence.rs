@@ -286,7 +286,9 @@ pub fn convergence(
         for &h in &plan.steps {
             let traj = method
                 .integrate_at(h, &problem, reference.times())
-                .map_err(|e| HarnessError::Integrator(format!("{label} at step {h}: {e}")))?;
+                .map_err(|e| {
+                    HarnessError::Integrator(format!("{} at step {h}: {e}", method.name()))
+                })?;
             match &first {
                 None => first = Some(traj.states.clone()),
                 Some(f) => changed |= *f != traj.states,

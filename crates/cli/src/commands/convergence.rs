@@ -63,6 +63,9 @@ pub struct Args {
     pub exec: Vec<String>,
     #[command(flatten)]
     pub timeout: TimeoutArgs,
+    /// rtol = atol sent to --exec integrators with the step (heyoka takes its order from it)
+    #[arg(long, value_name = "R", default_value = "1e-10", value_parser = finite_f64, allow_hyphen_values = true)]
+    pub exec_tolerance: f64,
     /// Steps, comma-separated (at least 3)
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = finite_f64, conflicts_with_all = ["step", "halvings"])]
     pub steps: Option<Vec<f64>>,
@@ -127,11 +130,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     {
         bail!("--order: only the Taylor methods take a fixed order");
     }
+    let tolerance =
+        Tolerances::new(args.exec_tolerance, args.exec_tolerance).context("--exec-tolerance")?;
     let mut externals = Vec::new();
     for command in &args.exec {
         externals.push(exec_integrator(
             command,
-            Tolerances::new(1e-10, 1e-10)?,
+            tolerance,
             Some(args.digits),
             args.timeout.exec_timeout,
         )?);

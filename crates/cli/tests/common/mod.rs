@@ -97,3 +97,32 @@ pub fn adapter_rk4() -> PathBuf {
     assert!(status.success(), "cargo build -p example-adapter-rk4");
     dir.join("release/example-adapter-rk4")
 }
+
+/// The Python of scripts/install_adapters.sh when it has `package` (`$RSTS_ADAPTERS_PYTHON` or
+/// `.venv-adapters/bin/python`); `None` (the test reports a skip) otherwise.
+pub fn python_with(package: &str, test: &str) -> Option<String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let python = std::env::var("RSTS_ADAPTERS_PYTHON").unwrap_or_else(|_| {
+        root.join(".venv-adapters/bin/python")
+            .to_string_lossy()
+            .into_owned()
+    });
+    let ok = Command::new(&python)
+        .args(["-c", &format!("import {package}")])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if ok {
+        Some(python)
+    } else {
+        rsts_io::report_skip(
+            test,
+            &format!("{package} is not installed (scripts/install_adapters.sh {package}; needs pip and PyPI)"),
+        );
+        None
+    }
+}
+
+pub fn adapter_command(python: &str, script: &str, arg: &str) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/adapters");
+    format!("{python} {} {arg}", root.join(script).display())
+}
