@@ -126,8 +126,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             })?,
         );
     }
-    if args.order.is_some() && !builtins.iter().any(|b| b.order.is_some()) && args.methods.is_some()
-    {
+    if args.order.is_some() && !builtins.iter().any(|b| b.order.is_some()) {
         bail!("--order: only the Taylor methods take a fixed order");
     }
     let tolerance =
