@@ -342,6 +342,51 @@ bad_input_property!(
     .collect()
 );
 
+// `rsts convergence`: the case, the grid, the methods and order, the sweep, the diagram and
+// the adapters; the SVG is not left behind.
+bad_input_property!(
+    convergence_rejects_bad_input,
+    vec![
+        A,
+        B,
+        M,
+        H,
+        TORUS,
+        PHASE1,
+        PHASE2,
+        T_END,
+        num("--samples", &["0", "1", "x", "200000"]),
+        word("--methods", &["euler", "", "rk4,euler", "taylor-f64"]),
+        num("--order", &["0", "-1", "x"]),
+        num("--digits", &["5", "10001", "x"]),
+        num("--step", &["0", "-1", "nan", "x", "5"]),
+        num("--halvings", &["1", "41", "x", "-1"]),
+        num("--exec-tolerance", &["0", "-1", "2", "nan"]),
+        word("--svg", &["/proc/rsts/c.svg", "/dev/null/c.svg"]),
+        Opt {
+            name: "--exec",
+            named_as: &["external integrator"],
+            bad: &["/bin/false", "", "'x", "/nonexistent/prog", "cat"],
+            numeric: false,
+        },
+        FORMAT,
+    ],
+    strings(&[
+        "convergence",
+        "--samples",
+        "2",
+        "--t-end",
+        "1",
+        "--step",
+        "0.5",
+        "--halvings",
+        "2",
+    ])
+    .into_iter()
+    .chain(["--svg".to_string(), s(&scratch().join("c.svg"))])
+    .collect()
+);
+
 // `rsts compare --exec`: a program that cannot start, fails, answers garbage or takes a bad
 // timeout; the MCAP log it was to write is not left behind.
 bad_input_property!(

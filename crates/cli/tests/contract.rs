@@ -93,6 +93,15 @@ fn base(command: &str) -> Option<Vec<Vec<String>>> {
             "--repeats",
             "1",
         ])],
+        "convergence" => vec![v(&[
+            "convergence",
+            "--t-end",
+            "1",
+            "--samples",
+            "2",
+            "--steps",
+            "0.5,0.25,0.125",
+        ])],
         "table1" => vec![v(&["table1"])],
         "check" => {
             let traj = trajectory().to_str().unwrap().to_string();

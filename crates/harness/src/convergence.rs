@@ -149,6 +149,8 @@ fn grid_of(times: &[f64]) -> Result<OutputGrid, HarnessError> {
 
 /// Most steps of a whole sweep (every method and step).
 pub const MAX_SWEEP_STEPS: f64 = 1e9;
+/// Most samples of a convergence study (the reference keeps them all in high precision).
+pub const MAX_CONVERGENCE_SAMPLES: usize = 100_000;
 
 /// What to run: a motion and the fixed steps (largest first, each a whole fraction of the
 /// sample spacing).
@@ -163,10 +165,18 @@ impl ConvergencePlan {
     /// sample spacing Δ; each step becomes Δ/⌈Δ/h⌉.
     pub fn new(case: Case, steps: &[f64]) -> Result<Self, HarnessError> {
         case.validate()?;
-        if !(case.t_end > 0.0 && case.samples >= 2) {
-            return Err(HarnessError::Case(
-                "t-end must be positive with at least 2 samples for a convergence study".into(),
-            ));
+        if case.t_end <= 0.0 {
+            return Err(HarnessError::Case(format!(
+                "t-end must be positive for a convergence study, got {}",
+                case.t_end
+            )));
+        }
+        if !(2..=MAX_CONVERGENCE_SAMPLES).contains(&case.samples) {
+            return Err(HarnessError::Case(format!(
+                "samples must be between 2 and {MAX_CONVERGENCE_SAMPLES} for a convergence \
+                 study (the error is measured there), got {}",
+                case.samples
+            )));
         }
         let spacing = OutputGrid::new(case.t_end, case.samples)?.spacing();
         let mut used: Vec<f64> = Vec::new();
@@ -199,8 +209,9 @@ impl ConvergencePlan {
         let per_method: f64 = used.iter().map(|h| case.t_end / h).sum();
         if per_method > MAX_SWEEP_STEPS {
             return Err(HarnessError::Case(format!(
-                "steps: the sweep takes about {} steps per method, more than the limit of {}; \
-                 use larger steps or a shorter t-end",
+                "t-end {} takes about {} steps per method at these steps, more than the \
+                 limit of {}; use larger steps or a shorter t-end",
+                rsts_dynamics::short(case.t_end),
                 rsts_dynamics::short(per_method),
                 rsts_dynamics::short(MAX_SWEEP_STEPS)
             )));

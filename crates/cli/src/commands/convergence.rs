@@ -118,7 +118,9 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     for m in given {
         builtins.push(
             FixedStepMethod::new(m, args.order, args.digits).map_err(|e| {
-                if e.contains("order") {
+                if e.contains("needs a fixed order") {
+                    anyhow!("--methods/--order: {e}")
+                } else if e.contains("order") {
                     anyhow!("--order: {e}")
                 } else {
                     anyhow!("--methods: {e}")
@@ -150,7 +152,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     for e in &mut externals {
         methods.push(e);
     }
-    let report = convergence(&plan, &mut methods).map_err(|e| anyhow!("{e}"))?;
+    let report = convergence(&plan, &mut methods).map_err(case_error)?;
     if let Some(path) = &args.svg {
         let svg = render(&report)?;
         rsts_io::write_atomic(path, svg.as_bytes())
