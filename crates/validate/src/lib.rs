@@ -7,6 +7,7 @@
 //! in docs/validation.md.
 
 pub mod closed_form_check;
+mod convergence;
 /// The growth fits live in the harness (compare reports them too).
 pub use rsts_harness::growth;
 pub mod plots;

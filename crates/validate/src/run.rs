@@ -8,8 +8,7 @@ use rsts_dynamics::integrators::Tolerances;
 use rsts_external::Exec;
 use rsts_harness::geometry::{ErrorSplit, NormalSummary, PhaseErrorSummary};
 use rsts_harness::{
-    compare_integrator, CompareOptions, ConvergencePlan, FixedStepMethod, Integrator, Observer,
-    OrderFit, SampleRecord,
+    compare_integrator, CompareOptions, Integrator, Observer, OrderFit, SampleRecord,
 };
 use serde::{Deserialize, Serialize};
 
@@ -310,7 +309,7 @@ pub fn execute(run: &Run) -> RunResult {
         ..
     } = &run.kind
     {
-        convergence_run(run, method, steps, *order, &mut r);
+        crate::convergence::execute(run, method, steps, *order, &mut r);
         judge(&mut r);
         r.timing.wall_seconds = started.elapsed().as_secs_f64();
         return r;
@@ -349,34 +348,6 @@ pub fn execute(run: &Run) -> RunResult {
     judge(&mut r);
     r.timing.wall_seconds = started.elapsed().as_secs_f64();
     r
-}
-
-/// A convergence run: the method at the fixed steps, its order fitted.
-fn convergence_run(
-    run: &Run,
-    method: &str,
-    steps: &[f64],
-    order: Option<usize>,
-    r: &mut RunResult,
-) {
-    let result = method
-        .parse::<rsts_dynamics::integrators::MethodName>()
-        .map_err(|e| e.to_string())
-        .and_then(|m| {
-            let digits = r
-                .digits
-                .unwrap_or(rsts_dynamics::integrators::DEFAULT_MP_DIGITS);
-            FixedStepMethod::new(m, order, digits)
-        })
-        .and_then(|mut method| {
-            let plan =
-                ConvergencePlan::new(run.harness_case(), steps).map_err(|e| e.to_string())?;
-            rsts_harness::convergence(&plan, &mut [&mut method]).map_err(|e| e.to_string())
-        });
-    match result {
-        Ok(mut report) => r.convergence = report.fits.pop(),
-        Err(e) => r.error = Some(e),
-    }
 }
 
 /// An adapter's integrator.

@@ -13,6 +13,8 @@ use rsts_closed_form::{Camera, ExplicitMotion, TorusChoice};
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances};
 use serde::{Deserialize, Serialize};
 
+use crate::convergence::convergence_runs;
+pub use crate::convergence::ConvergenceSpec;
 use crate::ValidateError;
 
 /// Thresholds a run must meet (absent: not checked).
@@ -159,16 +161,6 @@ pub struct CaseSpec {
     pub convergence: Option<ConvergenceSpec>,
     #[serde(default)]
     pub thresholds: Thresholds,
-}
-
-/// `convergence = { steps = [...], order = P }` of a case.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ConvergenceSpec {
-    /// The fixed steps (at least 3; each made a whole fraction of the sample spacing).
-    pub steps: Vec<f64>,
-    /// Order of the Taylor methods.
-    pub order: Option<usize>,
 }
 
 /// An external integrator of a suite (`[adapters.NAME]`), used by its name in `methods` like a
@@ -757,39 +749,6 @@ fn expand_case(
                 });
             }
         }
-    }
-    Ok(runs)
-}
-
-/// The runs of a convergence case on one torus: each built-in method at the fixed steps, checked
-/// here (the steps against the grid, the Taylor order) so a bad case is a suite error.
-fn convergence_runs(
-    base: &Run,
-    methods: &[String],
-    conv: &ConvergenceSpec,
-    digits: Option<u32>,
-) -> Result<Vec<Run>, String> {
-    let plan = rsts_harness::ConvergencePlan::new(base.harness_case(), &conv.steps)
-        .map_err(|err| format!("convergence: {err}"))?;
-    let mut runs = Vec::new();
-    for method in methods {
-        let name: MethodName = method.parse().map_err(|err| {
-            format!("convergence: {err} (convergence cases take built-in methods)")
-        })?;
-        let d = digits.unwrap_or(rsts_dynamics::integrators::DEFAULT_MP_DIGITS);
-        let fixed = rsts_harness::FixedStepMethod::new(name, conv.order, d)
-            .map_err(|err| format!("convergence: {err}"))?;
-        use rsts_harness::FixedStepIntegrator;
-        runs.push(Run {
-            id: format!("{}/t{}/{}/order", base.case, base.torus, fixed.name()),
-            kind: RunKind::Convergence {
-                method: name.as_str().to_string(),
-                steps: plan.steps.clone(),
-                order: fixed.order,
-                digits: (name == MethodName::TaylorMp).then_some(d),
-            },
-            ..base.clone()
-        });
     }
     Ok(runs)
 }
