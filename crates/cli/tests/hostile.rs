@@ -14,7 +14,9 @@ mod common;
 use common::{dir, entries, rsts, s, stderr};
 
 /// Run `rsts args…`, killing it after `guard` seconds (then the test fails, naming the run).
+/// Its stdout and stderr are read while it runs (a full pipe would block it).
 fn guarded(args: &[&str], guard: u64) -> Output {
+    use std::io::Read;
     let mut child = Command::new(env!("CARGO_BIN_EXE_rsts"))
         .args(args)
         .stdin(Stdio::null())
@@ -22,16 +24,32 @@ fn guarded(args: &[&str], guard: u64) -> Output {
         .stderr(Stdio::piped())
         .spawn()
         .expect("start rsts");
+    let drain = |mut pipe: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut buf = Vec::new();
+            let _ = pipe.read_to_end(&mut buf);
+            buf
+        })
+    };
+    let out = drain(Box::new(child.stdout.take().unwrap()));
+    let err = drain(Box::new(child.stderr.take().unwrap()));
     let until = Instant::now() + Duration::from_secs(guard);
-    while child.try_wait().unwrap().is_none() {
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
         if Instant::now() > until {
             let _ = child.kill();
             let _ = child.wait();
             panic!("{args:?} still ran after {guard} s: killed");
         }
         std::thread::sleep(Duration::from_millis(20));
+    };
+    Output {
+        status,
+        stdout: out.join().unwrap(),
+        stderr: err.join().unwrap(),
     }
-    child.wait_with_output().unwrap()
 }
 
 /// An executable shell script `name` in `d`.
@@ -562,4 +580,71 @@ fn i8_a_suite_with_no_methods_is_refused() {
     let e = stderr(&out);
     assert_eq!(code(&out), Some(2), "{e}");
     assert!(e.contains("methods is an empty list"), "{e}");
+}
+
+// ---- 7. long digit strings --------------------------------------------------------------------
+
+#[test]
+fn i7_digits_beyond_what_the_reference_uses_are_refused_and_identify_is_fast() {
+    let d = dir("digits");
+    let long = d.join("long.csv");
+    let digits = format!("0.{}", "3".repeat(200_000));
+    fs::write(&long, format!("{HEADER}\n0,{digits},0,0,1,0,0,0,1,0\n")).unwrap();
+    let out = guarded(&["check", s(&long)], 60);
+    let e = stderr(&out);
+    assert_eq!(code(&out), Some(2), "{}", &e[..e.len().min(300)]);
+    assert!(
+        e.contains("line 2, column 2 (omega1)") && e.contains("more than 10000 significant digits"),
+        "{}",
+        &e[..e.len().min(300)]
+    );
+    // A 10-digit state identified at 10000 digits: the searches stop at the state's own
+    // distance from N (epsilon at 33000 bits used to be 0: every loop ran to its limit, 70 s).
+    let out = guarded(
+        &[
+            "identify",
+            "--omega=-0.7647920880,0.0304544152,-0.0788113714",
+            "--alpha=-0.8092123863,0.4893823915,0.3250848946",
+            "--beta=0.1716166194,-0.3322951766,0.9274306721",
+            "--digits",
+            "10000",
+            "--format",
+            "json",
+        ],
+        45,
+    );
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["camera"], "V");
+    assert_eq!(doc["torus"], 3);
+    let phase1: f64 = doc["phase1"].as_str().unwrap().parse().unwrap();
+    assert!((phase1 - 0.5).abs() < 1e-8, "{phase1}");
+}
+
+/// A table cell wider than 65535 characters (a format width's limit) used to panic.
+#[test]
+fn i7_a_table_of_sixty_six_thousand_digits_prints() {
+    let out = guarded(
+        &[
+            "explicit",
+            "--t-end",
+            "0",
+            "--samples",
+            "1",
+            "--digits",
+            "66000",
+        ],
+        120,
+    );
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let widths: Vec<usize> = lines[lines.len() - 3..]
+        .iter()
+        .map(|l| l.chars().count())
+        .collect();
+    assert!(
+        widths[0] > 66_000 && widths.iter().all(|&w| w == widths[0]),
+        "{widths:?}"
+    );
 }

@@ -12,6 +12,9 @@ use rug::Float;
 
 /// Significant digits above which a value is read as a high-precision decimal.
 pub const F64_TEXT_DIGITS: usize = 17;
+/// Most significant digits a value may carry: what the reference can use (`check --digits` and
+/// an adapter's request go up to 10000). A longer value is refused before it is parsed.
+pub const MAX_TEXT_DIGITS: usize = 10_000;
 
 /// One number as it was written.
 #[derive(Clone, Debug, PartialEq)]
@@ -67,6 +70,12 @@ pub fn check_text(s: &str) -> Result<Number, String> {
     let t = shown.as_str();
     if t.is_empty() {
         return Err("empty value".into());
+    }
+    // Counted on the raw text first: a 50 MB field is refused without being parsed.
+    if t_full.len() > 2 * MAX_TEXT_DIGITS + 64 || significant_digits(t_full) > MAX_TEXT_DIGITS {
+        return Err(format!(
+            "'{t}' has more than {MAX_TEXT_DIGITS} significant digits, the most the reference can use"
+        ));
     }
     let lower = t_full.to_ascii_lowercase();
     if lower.contains("nan") {
