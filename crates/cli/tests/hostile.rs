@@ -648,3 +648,55 @@ fn i7_a_table_of_sixty_six_thousand_digits_prints() {
         "{widths:?}"
     );
 }
+
+// ---- what a new user saw wrong ----------------------------------------------------------------
+
+/// An answer stating its own precision (`"digits"`) is reported with it, not with the
+/// request's 36 digits.
+#[test]
+fn user_an_adapter_states_its_digits() {
+    let d = dir("answer-digits");
+    let rsts_bin = env!("CARGO_BIN_EXE_rsts");
+    // `reference --digits 20 --format json` carries "digits": 20 at its head.
+    let answers = script(
+        &d,
+        "answers-20-digits.sh",
+        &format!("cat >/dev/null\n{rsts_bin} reference --times 0,1 --digits 20 --format json"),
+    );
+    let out = guarded(
+        &[
+            "compare",
+            "--exec",
+            &answers,
+            "--t-end",
+            "1",
+            "--samples",
+            "2",
+            "--format",
+            "json",
+        ],
+        60,
+    );
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["digits"], 20, "{doc}");
+}
+
+/// The hint after `check --mcap` names a command that runs from anywhere (as compare's does),
+/// not `target/release/rsts`, which only works at the top of a checkout.
+#[test]
+fn user_check_mcap_hint_runs_from_anywhere() {
+    let d = dir("hint");
+    let traj = reference_csv(&d);
+    let out = Command::new(env!("CARGO_BIN_EXE_rsts"))
+        .args(["check", s(&traj), "--mcap", "c.mcap"])
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    let e = stderr(&out);
+    assert_eq!(code(&out), Some(0), "{e}");
+    assert!(
+        e.contains(" inspect c.mcap`") && !e.contains("`target/release/rsts inspect"),
+        "{e}"
+    );
+}

@@ -15,7 +15,8 @@
 //! Parameters and the initial state are decimal strings carrying `digits` digits (the exact
 //! values the closed-form reference uses, rounded to that many digits); times are JSON numbers,
 //! starting at 0. The answer has one sample per time; its numbers may be JSON numbers or decimal
-//! strings; `name` and `stats` are optional. Instead of JSON the answer may be the CSV of
+//! strings; `name`, `stats` and `digits` (the integrator's working precision in decimal digits,
+//! e.g. 15 for f64, reported instead of the request's) are optional. Instead of JSON the answer may be the CSV of
 //! `rsts check` (header `t,omega1,…,beta3`). rsts measures the child's wall time; the
 //! `integration_seconds` of the answer, when present, is the time reported.
 //!
@@ -135,6 +136,8 @@ pub struct Exec {
     /// Name given by the user (a suite's adapter name); else the answer's, else the program's.
     name: Option<String>,
     answered_name: Option<String>,
+    /// The working precision the answer stated (`"digits"`), reported instead of the request's.
+    answered_digits: Option<u32>,
     pub tolerances: Tolerances,
     /// Digits of the parameters and initial state in the request (also the precision the
     /// reference must exceed).
@@ -157,6 +160,7 @@ impl Exec {
             argv,
             name: None,
             answered_name: None,
+            answered_digits: None,
             tolerances,
             digits: DEFAULT_DIGITS,
             timeout: Duration::from_secs_f64(DEFAULT_TIMEOUT_SECONDS),
@@ -334,6 +338,7 @@ impl Exec {
             return Err(self.fail("it wrote no answer on stdout", stderr));
         }
         let mut answered = None;
+        let mut digits = None;
         let (raw, stats) = if text.trim_start().starts_with('{') {
             let doc: Value =
                 serde_json::from_str(text).map_err(|e| garbage(format!("invalid JSON: {e}")))?;
@@ -345,12 +350,24 @@ impl Exec {
                 answered = Some(name.to_string());
             }
             let stats = parse_stats(doc.get("stats")).map_err(garbage)?;
+            if let Some(d) = doc.get("digits").filter(|d| !d.is_null()) {
+                let d = d
+                    .as_u64()
+                    .filter(|d| (1..=10_000).contains(d))
+                    .ok_or_else(|| {
+                        garbage("\"digits\" must be a whole number from 1 to 10000".into())
+                    })?;
+                digits = Some(d as u32);
+            }
             (parse_json(&doc).map_err(garbage)?, stats)
         } else {
             (parse_csv(text).map_err(garbage)?, (None, None, None))
         };
         if answered.is_some() {
             self.answered_name = answered;
+        }
+        if digits.is_some() {
+            self.answered_digits = digits;
         }
         if raw.len() != times.len() {
             return Err(self.fail(
@@ -485,7 +502,7 @@ impl Integrator for Exec {
     }
 
     fn digits(&self) -> u32 {
-        self.digits
+        self.answered_digits.unwrap_or(self.digits)
     }
 
     fn integrate(

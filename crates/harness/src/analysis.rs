@@ -187,6 +187,11 @@ impl Analysis {
         self.report.method = method;
     }
 
+    /// The digits the integrator states after its run (an external one's answer may say them).
+    pub fn set_digits(&mut self, digits: u32) {
+        self.report.digits = digits;
+    }
+
     /// The run was stopped before its last sample.
     pub fn mark_incomplete(&mut self) {
         self.report.complete = false;

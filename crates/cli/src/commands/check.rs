@@ -235,8 +235,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {
         eprintln!(
-            "MCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `target/release/rsts inspect {path}`.",
-            stats.samples, stats.messages
+            "MCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `{} inspect {path}`.",
+            stats.samples,
+            stats.messages,
+            crate::invocation::invocation()
         );
     }
     if !report.report.complete {
