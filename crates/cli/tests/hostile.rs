@@ -700,3 +700,43 @@ fn user_check_mcap_hint_runs_from_anywhere() {
         "{e}"
     );
 }
+
+/// The error plot's dashed line is what its label says, the distance from N: in camera V it
+/// follows the departure (above 1e-5 here), where off_N (the on-N relations' drift) stayed near
+/// round-off and was drawn instead.
+#[test]
+fn user_the_error_plot_draws_the_distance_from_n() {
+    let d = dir("plot-distance");
+    let suite = d.join("v.toml");
+    fs::write(
+        &suite,
+        "[[case]]\nname = \"camera-v\"\nm = -0.7092\nh = 1.5643\ntori = [2]\nt_end = 50\n\
+         samples = 501\nmethods = [\"dopri5\"]\ntolerances = [1e-8]\n",
+    )
+    .unwrap();
+    let rep = d.join("rep");
+    let out = guarded(
+        &["validate", "--suite", s(&suite), "--report", s(&rep)],
+        120,
+    );
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    let report: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(rep.join("report.json")).unwrap()).unwrap();
+    let run = report["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["method"] == "dopri5")
+        .unwrap();
+    let dist: Vec<f64> = run["series"]["distance_from_N"]
+        .as_array()
+        .expect("the series keeps the distance from N")
+        .iter()
+        .filter_map(serde_json::Value::as_f64)
+        .collect();
+    let max = dist.iter().copied().fold(0.0, f64::max);
+    assert!(max > 1e-5, "max distance from N {max:e}");
+    let svg = fs::read_to_string(rep.join("plots/error-camera-v-t2.svg")).unwrap();
+    assert!(svg.contains("dopri5@1e-8 distance from N"), "legend");
+    assert!(!svg.contains("off N"), "off_N is not drawn as the distance");
+}

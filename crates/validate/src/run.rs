@@ -87,6 +87,10 @@ pub struct Series {
     pub state_error: Vec<f64>,
     #[serde(rename = "off_N")]
     pub off_n: Vec<f64>,
+    /// The distance of the integrated state from N (NaN where its geometry could not be
+    /// computed); empty in reports written before it was kept.
+    #[serde(rename = "distance_from_N", default)]
+    pub distance_from_n: Vec<f64>,
 }
 
 /// Wall-clock figures: the only part of a result that changes from run to run.
@@ -148,6 +152,7 @@ struct Collector {
     t: Vec<f64>,
     state_error: Vec<f64>,
     off_n: Vec<f64>,
+    distance_from_n: Vec<f64>,
 }
 
 impl Observer for Collector {
@@ -155,6 +160,7 @@ impl Observer for Collector {
         self.t.push(r.t);
         self.state_error.push(r.errors.state_error);
         self.off_n.push(r.errors.off_n);
+        self.distance_from_n.push(r.errors.distance_from_n);
         Ok(())
     }
 }
@@ -367,6 +373,7 @@ fn integrate_run(run: &Run, integrator: &mut dyn Integrator, r: &mut RunResult) 
                 t: idx.iter().map(|&k| obs.t[k]).collect(),
                 state_error: idx.iter().map(|&k| obs.state_error[k]).collect(),
                 off_n: idx.iter().map(|&k| obs.off_n[k]).collect(),
+                distance_from_n: idx.iter().map(|&k| obs.distance_from_n[k]).collect(),
             };
         }
     }
