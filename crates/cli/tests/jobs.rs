@@ -1,0 +1,45 @@
+//! `--jobs N`: the samples are computed on N threads and the output is the same bytes for any
+//! N (rows in input order across batches of 8192).
+
+mod common;
+use common::{fails, rsts};
+
+fn run(args: &[&str], jobs: &str) -> Vec<u8> {
+    let mut all = args.to_vec();
+    all.extend(["--jobs", jobs]);
+    let out = rsts(&all);
+    assert!(out.status.success(), "{all:?}: {}", common::stderr(&out));
+    out.stdout
+}
+
+#[test]
+fn reference_output_is_the_same_on_any_number_of_threads() {
+    // 20 000 rows: three batches, the last one partial.
+    for format in ["csv", "json", "npy"] {
+        let args = [
+            "reference",
+            "--m",
+            "-0.7092",
+            "--h",
+            "1.5643",
+            "--torus",
+            "2",
+            "--t-end",
+            "500",
+            "--samples",
+            "20000",
+            "--format",
+            format,
+        ];
+        let one = run(&args, "1");
+        assert!(one.len() > 20_000 * 13 * 8, "{format}: {} bytes", one.len());
+        for jobs in ["2", "3"] {
+            assert!(
+                run(&args, jobs) == one,
+                "{format}: --jobs {jobs} differs from --jobs 1"
+            );
+        }
+    }
+    let e = fails(&["reference", "--times", "0,1", "--jobs", "0"]);
+    assert!(e.contains("--jobs") && e.contains("need N >= 1"), "{e}");
+}
