@@ -37,7 +37,8 @@ Examples:
 
 FILE by extension: .csv (header t,omega1,omega2,omega3,alpha1,alpha2,alpha3,beta1,beta2,beta3;
 other columns ignored), .json ({\"samples\": [{\"t\", \"omega\", \"alpha\", \"beta\"}]}), .npy
-(float64, shape (N, 10)), .mcap (/integrated/state of an rsts log). Times strictly increasing,
+(float64, shape (N, 10), or (N, 13) as `rsts reference -o x.npy` writes it), .mcap
+(/integrated/state of an rsts log). Times strictly increasing,
 any spacing. Without --m/--h the motion is identified from the first row (which must lie on N).
 Values with at most 17 significant digits are read as f64; a file with longer values is read
 exactly at its precision. See docs/own-integrator.md.";
