@@ -7,6 +7,7 @@
 //! [`SampleRecord`] (MCAP log, progress bar, series for fits). [`analyse`] runs it over a whole
 //! trajectory.
 
+use rayon::prelude::*;
 use rsts_closed_form::ExplicitMotion;
 use rsts_dynamics::integrals::integrals;
 use rsts_dynamics::integrators::Stats;
@@ -64,6 +65,18 @@ pub struct Analysis {
     dd: Option<DdReference>,
     /// The constants of the measurement in double-double (with `dd`).
     dd_measure: Option<DdMeasure>,
+}
+
+/// Samples evaluated in parallel between two rounds of recording (memory: ~2 kB each).
+const BATCH: usize = 4096;
+
+/// A sample evaluated apart from the samples before it (the parallel part of
+/// [`Analysis::sample`]).
+struct Evaluated {
+    exact: State<Float>,
+    errors: SampleErrors,
+    snapshots: (StateSnapshot, StateSnapshot),
+    geometry: Option<crate::geometry::SampleGeometry>,
 }
 
 /// Fields, N and the initial integrals rounded to double-double: the errors of f64 data are
@@ -201,7 +214,47 @@ impl Analysis {
         state: &State<Float>,
         observer: &mut dyn Observer,
     ) -> Result<SampleErrors, HarnessError> {
-        let (exact, (mut errors, ex, int)) = match self.errors_dd(t, state) {
+        let evaluated = self.evaluate(t, state);
+        self.record(t, state, evaluated, observer)
+    }
+
+    /// Analyse samples in time order as [`Analysis::sample`] does one by one, evaluating them
+    /// in parallel batches on the current rayon pool (the report and the observer's records
+    /// are the same). Stops (report `complete: false`) when the observer asks. Returns the
+    /// errors of the first sample.
+    pub fn sample_all(
+        &mut self,
+        times: &[Float],
+        states: &[State<Float>],
+        observer: &mut dyn Observer,
+    ) -> Result<Option<SampleErrors>, HarnessError> {
+        let mut first = None;
+        for (tc, sc) in times.chunks(BATCH).zip(states.chunks(BATCH)) {
+            if observer.should_stop() {
+                self.mark_incomplete();
+                break;
+            }
+            let me = &*self;
+            let evaluated: Vec<Evaluated> = tc
+                .par_iter()
+                .zip(sc)
+                .map(|(t, s)| me.evaluate(t, s))
+                .collect();
+            for ((t, s), ev) in tc.iter().zip(sc).zip(evaluated) {
+                if observer.should_stop() {
+                    self.mark_incomplete();
+                    return Ok(first);
+                }
+                let e = self.record(t, s, ev, observer)?;
+                first.get_or_insert(e);
+            }
+        }
+        Ok(first)
+    }
+
+    /// What a sample's errors are, apart from the samples before it.
+    fn evaluate(&self, t: &Float, state: &State<Float>) -> Evaluated {
+        let (exact, (errors, ex, int)) = match self.errors_dd(t, state) {
             Some(dd) => dd,
             None => {
                 let exact = self.exact_state(t);
@@ -215,11 +268,42 @@ impl Analysis {
                 (exact, errors)
             }
         };
-        if let Some(g) = self
+        let geometry = self
             .geometry
-            .as_mut()
-            .and_then(|geometry| geometry.sample(t, state, &exact, errors.state_error))
-        {
+            .as_ref()
+            .and_then(|g| g.evaluate(t, state, &exact));
+        Evaluated {
+            exact,
+            errors,
+            snapshots: (ex, int),
+            geometry,
+        }
+    }
+
+    /// Add an evaluated sample (the next in time order) to the report and the observer.
+    fn record(
+        &mut self,
+        t: &Float,
+        state: &State<Float>,
+        evaluated: Evaluated,
+        observer: &mut dyn Observer,
+    ) -> Result<SampleErrors, HarnessError> {
+        let Evaluated {
+            exact,
+            mut errors,
+            snapshots: (ex, int),
+            geometry,
+        } = evaluated;
+        let state_error = errors.state_error;
+        let geometry = match (geometry, self.geometry.as_mut()) {
+            (Some(g), Some(geometry)) => {
+                geometry.record(t.to_f64(), &g, state_error);
+                Some(g)
+            }
+            (_, Some(geometry)) => geometry.sample(t, state, &exact, state_error),
+            (_, None) => None,
+        };
+        if let Some(g) = geometry {
             errors.distance_from_n = g.distance_from_n;
             errors.x_phi = g.x_phi;
             errors.along_n = g.along_n;

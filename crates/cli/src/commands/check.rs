@@ -80,6 +80,8 @@ pub struct Args {
     /// Output format of the report
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
+    #[command(flatten)]
+    pub jobs: crate::jobs::JobsArgs,
 }
 
 /// The JSON of `rsts check`: the library's report and where the log went.
@@ -181,7 +183,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     };
     let stop = stop_on_ctrl_c();
     let mut observer = CliObserver::new(log, samples.times.len() as u64, stop);
-    let report = match start.run(&samples.times, &samples.states, &mut observer) {
+    let pool = args.jobs.pool()?;
+    let report = match pool.install(|| start.run(&samples.times, &samples.states, &mut observer)) {
         Ok(report) => report,
         Err(e) => {
             // A failed check discards its log: the temporary is removed, a previous file stays.
