@@ -10,6 +10,7 @@ mod commands;
 mod external;
 mod interrupt;
 mod invocation;
+mod jobs;
 mod output;
 
 use std::io::{self, Write};

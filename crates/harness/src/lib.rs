@@ -30,6 +30,7 @@ pub mod identify;
 pub mod integrator;
 mod metrics;
 pub mod reference;
+pub mod rounded_reference;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
 pub use bench::{measure, measure_against, measure_integrator, BenchRow, Reference};
