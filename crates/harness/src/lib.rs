@@ -24,6 +24,7 @@ pub mod bench;
 mod case;
 pub mod check;
 mod compare;
+pub mod convergence;
 pub mod geometry;
 pub mod growth;
 pub mod identify;
@@ -39,6 +40,10 @@ pub use check::{check, Check, CheckReport, CheckRequest, CheckedCase, GivenMotio
 pub use compare::{
     check_finite_report, compare, compare_integrator, preflight, reference_bits,
     reference_bits_for, run_info, CompareOptions, DEFAULT_PIECES, REFERENCE_GUARD_BITS,
+};
+pub use convergence::{
+    convergence, fit_order, ConvergencePlan, ConvergenceReport, ConvergenceRow,
+    FixedStepIntegrator, FixedStepMethod, OrderFit,
 };
 pub use integrator::{check_times, Integrator, Propagated, Trajectory};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot};
