@@ -165,6 +165,27 @@ fn unreachable_tolerances_are_skipped_with_a_note() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("round-off"));
 }
 
+/// Issue 18 item 9: dop853 refused 1e-16 (below f64's 1.1e-16) when its config was built,
+/// before bench could skip it: the whole bench exited 2.
+#[test]
+fn a_tolerance_below_dop853_round_off_is_skipped_not_refused() {
+    let out = bench(&[
+        "--methods",
+        "taylor-f64,dop853",
+        "--tolerances",
+        "1e-12,1e-16",
+        "--format",
+        "json",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("skipping dop853 at tolerance 1e-16"), "{err}");
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(rows_of(&doc, "taylor-f64").len(), 2);
+    assert_eq!(rows_of(&doc, "dop853").len(), 1);
+    assert_eq!(rows_of(&doc, "dop853")[0]["tolerance"], 1e-12);
+}
+
 #[test]
 fn taylor_mp_digits_default_to_the_smallest_tolerance_plus_ten() {
     let doc = bench_json(&["--methods", "taylor-mp", "--tolerances", "1e-20,1e-25"]);

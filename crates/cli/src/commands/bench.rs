@@ -195,18 +195,23 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let mut jobs = Vec::new();
     for &method in &methods {
         for &tol in &args.tolerances {
-            let tolerances = Tolerances::new(tol, tol)?;
-            let mut config = MethodConfig::new(method, tolerances, None)?;
+            // The method's round-off, asked of a config at a tolerance it accepts (it refuses
+            // one below its round-off, which bench skips instead).
+            let mut probe = MethodConfig::new(method, Tolerances::new(1.0, 1.0)?, None)?;
             if method == MethodName::TaylorMp {
-                config = config.with_digits(mp_digits).context("--digits")?;
+                probe = probe.with_digits(mp_digits).context("--digits")?;
             }
-            let unit = config.min_tolerance();
+            let unit = probe.min_tolerance();
             if tol < unit {
                 eprintln!(
                     "note: skipping {} at tolerance {tol:e}: below its unit round-off {unit:.2e}",
                     label_of(method, mp_digits)
                 );
                 continue;
+            }
+            let mut config = MethodConfig::new(method, Tolerances::new(tol, tol)?, None)?;
+            if method == MethodName::TaylorMp {
+                config = config.with_digits(mp_digits).context("--digits")?;
             }
             jobs.push(config);
         }
