@@ -63,8 +63,12 @@ fn json_has_one_row_per_method_and_tolerance_and_dop853_errors_fall() {
             [
                 "integration_seconds",
                 "max_error",
+                "mescd",
+                "mescd_min",
                 "method",
                 "rhs_evals",
+                "scd",
+                "scd_min",
                 "steps",
                 "tolerance"
             ]
@@ -234,7 +238,7 @@ fn csv_rows_carry_the_json_errors_at_full_precision() {
     // The CSV columns are the JSON row's fields (docs/output.md).
     assert_eq!(
         lines[0],
-        "method,tolerance,max_error,integration_seconds,steps,rhs_evals"
+        "method,tolerance,max_error,scd,mescd,scd_min,mescd_min,integration_seconds,steps,rhs_evals"
     );
     assert_eq!(lines.len(), 5);
     for (line, row) in lines[1..].iter().zip(rows(&doc)) {
@@ -248,6 +252,10 @@ fn csv_rows_carry_the_json_errors_at_full_precision() {
             f[2].parse::<f64>().unwrap(),
             row["max_error"].as_f64().unwrap()
         );
-        assert_eq!(f[4].parse::<u64>().unwrap(), row["steps"].as_u64().unwrap());
+        assert_eq!(
+            f[5].parse::<f64>().unwrap(),
+            row["scd_min"].as_f64().unwrap()
+        );
+        assert_eq!(f[8].parse::<u64>().unwrap(), row["steps"].as_u64().unwrap());
     }
 }

@@ -15,6 +15,7 @@ use rsts_dynamics::{Fields, State};
 use rug::Float;
 
 use crate::case::Case;
+use crate::digits::{CorrectDigits, DigitsTracker};
 use crate::geometry::Geometry;
 use crate::metrics::{exact_state, sample_errors, Drift, ManifoldN, Report, SampleErrors};
 use crate::{HarnessError, SampleRecord};
@@ -55,6 +56,7 @@ pub struct Analysis {
     initial_integrals: [Float; 3],
     bits: u32,
     report: Report,
+    digits: DigitsTracker,
     geometry: Option<Geometry>,
 }
 
@@ -70,6 +72,7 @@ impl Analysis {
             p2: c.p2.clone(),
             r4m: r4 * &c.m,
         };
+        let digits = DigitsTracker::new(info.rtol, info.atol);
         let start = exact_state(&motion.at(&Float::with_val(bits, 0)));
         let i0 = integrals(&fields, &start);
         let report = Report {
@@ -84,6 +87,7 @@ impl Analysis {
             max_state_error: 0.0,
             final_state_error: 0.0,
             max_orientation_error: 0.0,
+            correct_digits: CorrectDigits::default(),
             drift: Drift::default(),
             steps: 0,
             rejected_steps: 0,
@@ -104,6 +108,7 @@ impl Analysis {
             initial_integrals: [i0.h, i0.k, i0.g],
             bits,
             report,
+            digits,
             geometry,
         }
     }
@@ -160,6 +165,8 @@ impl Analysis {
         }
         let index = self.report.samples_compared;
         self.report.absorb(&errors);
+        self.digits.sample(&exact, state);
+        self.report.correct_digits = self.digits.summary();
         observer
             .on_sample(&SampleRecord {
                 index,

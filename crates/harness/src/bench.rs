@@ -8,13 +8,14 @@
 //! [`reference_bits_for`] the integrator's precision (64 bits beyond it), and reused across
 //! repeats, tolerances and integrators.
 
-use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem};
+use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Tolerances};
 use rsts_dynamics::{Fields, State};
 use rug::Float;
 use serde::{Deserialize, Serialize};
 
 use crate::case::Case;
 use crate::compare::{reference_bits, reference_bits_for};
+use crate::digits::{correct_digits, CorrectDigits};
 use crate::integrator::{Integrator, Trajectory};
 use crate::metrics::exact_state;
 use crate::HarnessError;
@@ -26,6 +27,9 @@ pub struct BenchRow {
     pub tolerance: f64,
     /// max over samples and the nine components (ω, α, β) of |x − x_exact|.
     pub max_error: f64,
+    /// Correct digits of the run (`scd`, `mescd`, `scd_min`, `mescd_min`: [`crate::digits`]).
+    #[serde(flatten)]
+    pub correct_digits: CorrectDigits,
     /// Median over the repeats of the integrator's own time (an external integrator's
     /// `integration_seconds` when it reports one, else its wall time).
     pub integration_seconds: f64,
@@ -174,7 +178,8 @@ pub fn measure_integrator(
         fields: reference.fields.clone(),
         initial: reference.states[0].clone(),
     };
-    let mut row = summarize(reference, repeats, || {
+    let tolerances = integrator.tolerances();
+    let mut row = summarize(reference, repeats, tolerances, || {
         integrator.integrate(&problem, &reference.times)
     })?;
     row.method = integrator.name();
@@ -184,10 +189,12 @@ pub fn measure_integrator(
     Ok(row)
 }
 
-/// Run `run` `repeats` times: error, steps and evaluations of the first run, median times.
+/// Run `run` `repeats` times: error, digits (for `tolerances`), steps and evaluations of the
+/// first run, median times.
 fn summarize(
     reference: &Reference,
     repeats: usize,
+    tolerances: Option<Tolerances>,
     mut run: impl FnMut() -> Result<Trajectory, HarnessError>,
 ) -> Result<BenchRow, HarnessError> {
     let mut seconds = Vec::with_capacity(repeats);
@@ -206,6 +213,12 @@ fn summarize(
         method: String::new(),
         tolerance: f64::NAN,
         max_error: max_state_error(&reference.states, &traj.states)?,
+        correct_digits: correct_digits(
+            &reference.states,
+            &traj.states,
+            tolerances.map(|t| t.rtol),
+            tolerances.map(|t| t.atol),
+        ),
         integration_seconds: median(&seconds),
         steps: traj.stats.accepted_steps,
         rhs_evals: traj.stats.rhs_evals,
@@ -217,7 +230,7 @@ fn summarize(
 mod tests {
     use super::*;
     use rsts_closed_form::{ExplicitMotion, TorusChoice};
-    use rsts_dynamics::integrators::{MethodName, Stats, Tolerances};
+    use rsts_dynamics::integrators::{MethodName, Stats};
 
     fn case(t_end: f64, samples: usize) -> Case {
         Case {
@@ -340,7 +353,7 @@ mod tests {
         let reference = Reference::new(&c, 200).unwrap();
         let times = [5.0, 0.5, 40.0, 1.5, 2.0];
         let mut k = 0;
-        let row = summarize(&reference, times.len(), || {
+        let row = summarize(&reference, times.len(), None, || {
             let seconds = times[k];
             k += 1;
             let mut states = reference.states().to_vec();

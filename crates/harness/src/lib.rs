@@ -24,6 +24,7 @@ pub mod bench;
 mod case;
 pub mod check;
 mod compare;
+pub mod digits;
 pub mod geometry;
 pub mod growth;
 pub mod identify;
@@ -39,6 +40,7 @@ pub use compare::{
     check_finite_report, compare, compare_integrator, preflight, reference_bits,
     reference_bits_for, run_info, CompareOptions, DEFAULT_PIECES, REFERENCE_GUARD_BITS,
 };
+pub use digits::CorrectDigits;
 pub use integrator::{check_times, Integrator, Propagated, Trajectory};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot};
 pub use rsts_dynamics::integrators::MethodConfig;
