@@ -16,6 +16,7 @@ use rug::Float;
 
 use crate::case::Case;
 use crate::digits::{CorrectDigits, DigitsTracker};
+use crate::drift_growth::DriftSeries;
 use crate::geometry::Geometry;
 use crate::metrics::{exact_state, sample_errors, Drift, ManifoldN, Report, SampleErrors};
 use crate::{HarnessError, SampleRecord};
@@ -57,6 +58,7 @@ pub struct Analysis {
     bits: u32,
     report: Report,
     digits: DigitsTracker,
+    drifts: DriftSeries,
     geometry: Option<Geometry>,
 }
 
@@ -109,6 +111,7 @@ impl Analysis {
             bits,
             report,
             digits,
+            drifts: DriftSeries::new(),
             geometry,
         }
     }
@@ -167,6 +170,15 @@ impl Analysis {
         self.report.absorb(&errors);
         self.digits.sample(&exact, state);
         self.report.correct_digits = self.digits.summary();
+        self.drifts.push(
+            t.to_f64(),
+            [
+                errors.drift_h,
+                errors.drift_k,
+                errors.drift_g,
+                errors.constraint_drift,
+            ],
+        );
         observer
             .on_sample(&SampleRecord {
                 index,
@@ -207,6 +219,7 @@ impl Analysis {
     /// The report with the growth fits and the split of the error (docs/stability.md).
     pub fn finish(self) -> Report {
         let mut report = self.report;
+        report.drift.growth = Some(self.drifts.laws());
         if let Some(geometry) = self.geometry {
             let g = geometry.finish();
             report.normal = Some(g.normal);

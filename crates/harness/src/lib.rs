@@ -25,6 +25,7 @@ mod case;
 pub mod check;
 mod compare;
 pub mod digits;
+pub mod drift_growth;
 pub mod geometry;
 pub mod growth;
 pub mod identify;

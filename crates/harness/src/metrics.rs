@@ -9,6 +9,7 @@ use rug::Float;
 use serde::Serialize;
 
 use crate::digits::CorrectDigits;
+use crate::drift_growth::DriftGrowth;
 use crate::geometry::{ErrorSplit, NormalSummary, PhaseErrorSummary};
 
 /// A state as plotted and logged (f64): orientation rows α, β, γ, ω, Ω = Qω and H, K, G.
@@ -71,6 +72,8 @@ pub struct Drift {
     pub constraints: f64,
     #[serde(rename = "off_N")]
     pub off_n: f64,
+    /// Growth laws of the drifts of H, K, G and the constraints (null until the run is done).
+    pub growth: Option<DriftGrowth>,
 }
 
 /// The result of a comparison (the JSON of `rsts compare`).

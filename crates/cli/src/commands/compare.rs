@@ -402,6 +402,12 @@ pub(crate) fn write_table(
             format!("{}, {}, {}", e(r.drift.h), e(r.drift.k), e(r.drift.g)),
         ),
         ("constraint drift", e(r.drift.constraints)),
+        (
+            "drift growth",
+            r.drift
+                .growth
+                .map_or_else(|| "-".to_string(), |g| g.describe()),
+        ),
         ("drift of on-N relations", e(r.drift.off_n)),
         (
             "steps (rejected)",
