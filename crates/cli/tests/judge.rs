@@ -178,3 +178,104 @@ fn bench_rows_carry_the_digits_of_the_same_compare_run() {
         "{table}"
     );
 }
+
+/// Least squares of log10(max_error) on log10(tolerance) per method, from the rows of
+/// `rsts bench --format json` on stdin: method p C rms max(error/tol) per line.
+const FIT_PY: &str = r#"
+import json, math, sys
+rows = json.load(sys.stdin)["rows"]
+for m in dict.fromkeys(r["method"] for r in rows):
+    pts = [(math.log10(r["tolerance"]), math.log10(r["max_error"])) for r in rows if r["method"] == m]
+    n = len(pts); mx = sum(x for x, _ in pts) / n; my = sum(y for _, y in pts) / n
+    p = sum((x - mx) * (y - my) for x, y in pts) / sum((x - mx) ** 2 for x, _ in pts)
+    c = my - p * mx
+    rms = math.sqrt(sum((y - c - p * x) ** 2 for x, y in pts) / n)
+    ratio = max(r["max_error"] / r["tolerance"] for r in rows if r["method"] == m)
+    print(m, repr(p), repr(10 ** c), repr(rms), repr(ratio))
+"#;
+
+/// The tolerance fits of bench equal Python's least squares over the same rows (checked: a fit
+/// of ln instead of log10 for C, or of the wrong rows, fails); the table has a line per method
+/// and the SVG draws each fitted line.
+#[test]
+fn tolerance_fits_of_bench_match_an_independent_least_squares() {
+    let svg = tmp("tolerance.svg");
+    let args = [
+        "bench",
+        "--methods",
+        "dop853,taylor-f64",
+        "--tolerances",
+        "1e-6,1e-8,1e-10,1e-12",
+        "--repeats",
+        "1",
+        "--t-end",
+        "20",
+        "--samples",
+        "41",
+        "--svg-tolerance",
+        svg.to_str().unwrap(),
+    ];
+    let out = ok(&[&args[..], &["--format", "json"]].concat());
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let fits = doc["fits"].as_array().unwrap();
+    assert_eq!(fits.len(), 2, "{doc}");
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for fit in fits {
+        let label = format!(
+            "{} fit: {:.2e}·tol^{:.2}",
+            fit["method"].as_str().unwrap(),
+            f(&fit["tolerance_constant"]),
+            f(&fit["tolerance_exponent"])
+        );
+        assert!(text.contains(&label), "{label} not in the SVG");
+    }
+    let table = stdout(&ok(&args));
+    assert!(table.contains("fit dop853: max error ≈"), "{table}");
+    assert!(table.contains("fit taylor-f64: max error ≈"), "{table}");
+
+    let mut child = Command::new("python3")
+        .args(["-c", FIT_PY])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn();
+    let Ok(child) = child.as_mut() else {
+        rsts_io::report_skip("tolerance_fits_of_bench", "python3 not found");
+        return;
+    };
+    use std::io::Write;
+    child.stdin.take().unwrap().write_all(&out.stdout).unwrap();
+    let mut text = String::new();
+    use std::io::Read;
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut text)
+        .unwrap();
+    assert!(child.wait().unwrap().success());
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 2, "{text}");
+    for (line, fit) in lines.iter().zip(fits) {
+        let v: Vec<&str> = line.split_whitespace().collect();
+        assert_eq!(v[0], fit["method"].as_str().unwrap());
+        for (k, key) in [
+            "tolerance_exponent",
+            "tolerance_constant",
+            "residual",
+            "max_error_over_tolerance",
+        ]
+        .iter()
+        .enumerate()
+        {
+            let want: f64 = v[k + 1].parse().unwrap();
+            let got = f(&fit[*key]);
+            assert!(
+                (got - want).abs() <= 1e-9 * want.abs().max(1e-3),
+                "{key}: {got} vs Python {want}"
+            );
+        }
+    }
+    // dop853 follows its tolerance closely (p near 1).
+    let p = f(&fits[0]["tolerance_exponent"]);
+    assert!(p > 0.8 && p < 1.3, "{p}");
+}

@@ -31,6 +31,7 @@ pub mod growth;
 pub mod identify;
 pub mod integrator;
 mod metrics;
+pub mod proportionality;
 pub mod reference;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
