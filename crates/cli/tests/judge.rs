@@ -279,3 +279,60 @@ fn tolerance_fits_of_bench_match_an_independent_least_squares() {
     let p = f(&fits[0]["tolerance_exponent"]);
     assert!(p > 0.8 && p < 1.3, "{p}");
 }
+
+/// `--cost` (alias `--x-axis`) puts evaluations or steps on the diagram's cost axis: its ticks
+/// span the rows' counts (1e3..1e4 here, where seconds would be far below 1); a bad cost exits 2.
+#[test]
+fn the_cost_axis_is_chosen() {
+    let svg = tmp("evals.svg");
+    let args = |cost: &'static str| {
+        vec![
+            "bench",
+            "--methods",
+            "dop853",
+            "--tolerances",
+            "1e-6,1e-10",
+            "--repeats",
+            "1",
+            "--t-end",
+            "20",
+            "--samples",
+            "41",
+            "--x-axis",
+            cost,
+            "--svg",
+            svg.to_str().unwrap(),
+        ]
+    };
+    for (cost, label, key) in [
+        ("rhs-evals", "right-hand-side evaluations", "rhs_evals"),
+        ("steps", "accepted steps", "steps"),
+    ] {
+        let mut a = args(cost);
+        a.extend_from_slice(&["--format", "json"]);
+        let doc: Value = serde_json::from_slice(&ok(&a).stdout).unwrap();
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(text.contains(label), "{cost}");
+        let counts: Vec<f64> = doc["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| f(&r[key]))
+            .collect();
+        let ticks: Vec<f64> = text
+            .split(r#"class="tick y" data-v=""#)
+            .skip(1)
+            .map(|s| s[..s.find('"').unwrap()].parse().unwrap())
+            .collect();
+        let (lo, hi) = (ticks[0], ticks[ticks.len() - 1]);
+        for c in counts {
+            assert!(
+                c >= lo / 10.0 && c <= hi * 10.0,
+                "{cost}: {c} outside {ticks:?}"
+            );
+        }
+        assert!(lo >= 1.0, "{cost}: counts, not seconds: {ticks:?}");
+    }
+    let out = rsts(&args("minutes"));
+    assert_eq!(out.status.code(), Some(2));
+}

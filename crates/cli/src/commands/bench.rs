@@ -39,6 +39,9 @@ Examples:
   rsts bench --methods dop853,dopri5,taylor-f64 --tolerances 1e-8,1e-10,1e-12,1e-14,1e-15 \\
       --format json --svg out/wp-f64.svg
 
+  # cost in right-hand-side evaluations rather than seconds (fair to a Python integrator)
+  rsts bench --methods dop853,taylor-f64 --cost rhs-evals --repeats 1 --svg out/wp-evals.svg
+
   # tolerance proportionality: max error = C tol^p fitted per method, a line per method in the
   # table, fits in the JSON, points and fitted lines in the SVG
   rsts bench --methods dop853,dopri5,taylor-f64 --tolerances 1e-6,1e-8,1e-10,1e-12,1e-14 \
@@ -96,6 +99,11 @@ pub struct Args {
     /// Write the work-precision diagram (max error against seconds, log-log) to this SVG file
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
+    /// The cost the work-precision diagram draws against the error (its vertical axis):
+    /// seconds favour compiled code over a Python integrator, evaluations and steps do not.
+    /// The table shows all three
+    #[arg(long, visible_alias = "x-axis", value_enum, value_name = "COST", default_value_t = Cost::Seconds)]
+    pub cost: Cost,
     /// Write the tolerance-proportionality diagram (max error against tolerance, log-log, with
     /// each method's fitted C·tol^p) to this SVG file
     #[arg(long, value_name = "FILE")]
@@ -108,6 +116,33 @@ pub struct Args {
 impl Args {
     fn case(&self) -> Case {
         self.case.case(self.t_end, self.samples)
+    }
+}
+
+/// The cost axis of the work-precision diagram.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Cost {
+    Seconds,
+    RhsEvals,
+    Steps,
+}
+
+impl Cost {
+    /// The cost of a row.
+    fn of(&self, row: &BenchRow) -> f64 {
+        match self {
+            Cost::Seconds => row.integration_seconds,
+            Cost::RhsEvals => row.rhs_evals as f64,
+            Cost::Steps => row.steps as f64,
+        }
+    }
+
+    fn label(&self, repeats: usize) -> String {
+        match self {
+            Cost::Seconds => format!("integration seconds (median of {repeats})"),
+            Cost::RhsEvals => "right-hand-side evaluations".into(),
+            Cost::Steps => "accepted steps".into(),
+        }
     }
 }
 
@@ -343,7 +378,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let plain: Vec<BenchRow> = rows.iter().map(|l| l.row.clone()).collect();
     let fits = fit_tolerances(&plain);
     if let Some(path) = &args.svg {
-        let svg = plots::render(&case, args.repeats, &rows)?;
+        let svg = plots::render(&case, args.repeats, &rows, args.cost)?;
         rsts_io::write_atomic(path, svg.as_bytes())
             .with_context(|| format!("--svg {}", path.display()))?;
         eprintln!("work-precision diagram: {}", path.display());

@@ -6,7 +6,7 @@ use rsts_harness::proportionality::ToleranceFit;
 use rsts_harness::Case;
 use rsts_plots::{Chart, Scale, Series, Style};
 
-use super::Labelled;
+use super::{Cost, Labelled};
 
 /// Colour of a series: a peer's method takes the colour of our method of the same precision.
 fn counterpart(label: &str) -> Option<&'static str> {
@@ -61,9 +61,15 @@ fn assign_colours(series: &mut [Series]) {
 }
 
 /// The work–precision diagram: one line per method, max error against seconds (log–log).
-pub(super) fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::Result<String> {
+pub(super) fn render(
+    case: &Case,
+    repeats: usize,
+    rows: &[Labelled],
+    cost: Cost,
+) -> anyhow::Result<String> {
     let mut series: Vec<Series> = Vec::new();
-    // (tolerance, error, seconds) per series, drawn from loose to tight tolerance.
+    // (tolerance, error, cost) per series, drawn from loose to tight tolerance; a row without
+    // the cost (an external integrator that reports no evaluations) is not drawn.
     let mut points: Vec<Vec<(f64, f64, f64)>> = Vec::new();
     for l in rows {
         let k = match series.iter().position(|s| s.label == l.label) {
@@ -76,7 +82,10 @@ pub(super) fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::
                 series.len() - 1
             }
         };
-        points[k].push((l.row.tolerance, l.row.max_error, l.row.integration_seconds));
+        let c = cost.of(&l.row);
+        if c > 0.0 {
+            points[k].push((l.row.tolerance, l.row.max_error, c));
+        }
     }
     for (s, mut p) in series.iter_mut().zip(points) {
         p.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -84,6 +93,7 @@ pub(super) fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::
         s.point_labels = p.iter().map(|(tol, _, _)| format!("{tol:e}")).collect();
         s.points = p.into_iter().map(|(_, e, t)| (e, t)).collect();
     }
+    series.retain(|s| !s.points.is_empty());
     assign_colours(&mut series);
     let chart = Chart {
         title: format!(
@@ -94,7 +104,7 @@ pub(super) fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::
             "max state error over {} samples (closed-form reference)",
             case.samples
         ),
-        y_label: format!("integration seconds (median of {repeats}); points: tolerance"),
+        y_label: format!("{}; points: tolerance", cost.label(repeats)),
         x_scale: Scale::Log10,
         y_scale: Scale::Log10,
         series,
