@@ -70,6 +70,9 @@ fn json_has_one_row_per_method_and_tolerance_and_dop853_errors_fall() {
                 "scd",
                 "scd_min",
                 "steps",
+                "time_max",
+                "time_median",
+                "time_min",
                 "tolerance"
             ]
         );
@@ -238,7 +241,7 @@ fn csv_rows_carry_the_json_errors_at_full_precision() {
     // The CSV columns are the JSON row's fields (docs/output.md).
     assert_eq!(
         lines[0],
-        "method,tolerance,max_error,scd,mescd,scd_min,mescd_min,integration_seconds,steps,rhs_evals"
+        "method,tolerance,max_error,scd,mescd,scd_min,mescd_min,integration_seconds,time_min,time_median,time_max,steps,rhs_evals"
     );
     assert_eq!(lines.len(), 5);
     for (line, row) in lines[1..].iter().zip(rows(&doc)) {
@@ -256,6 +259,9 @@ fn csv_rows_carry_the_json_errors_at_full_precision() {
             f[5].parse::<f64>().unwrap(),
             row["scd_min"].as_f64().unwrap()
         );
-        assert_eq!(f[8].parse::<u64>().unwrap(), row["steps"].as_u64().unwrap());
+        assert_eq!(
+            f[11].parse::<u64>().unwrap(),
+            row["steps"].as_u64().unwrap()
+        );
     }
 }

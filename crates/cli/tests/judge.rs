@@ -336,3 +336,39 @@ fn the_cost_axis_is_chosen() {
     let out = rsts(&args("minutes"));
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// Timings come as min, median and max over the repeats; the JSON records where it ran.
+#[test]
+fn timings_have_a_spread_and_the_environment_is_recorded() {
+    let doc = json_of(&[
+        "bench",
+        "--methods",
+        "dop853",
+        "--tolerances",
+        "1e-8",
+        "--repeats",
+        "5",
+        "--t-end",
+        "5",
+        "--samples",
+        "11",
+    ]);
+    let row = &doc["rows"][0];
+    let (lo, mid, hi) = (
+        f(&row["time_min"]),
+        f(&row["time_median"]),
+        f(&row["time_max"]),
+    );
+    assert!(0.0 < lo && lo <= mid && mid <= hi, "{row}");
+    assert_eq!(mid, f(&row["integration_seconds"]));
+    let env = &doc["environment"];
+    assert_eq!(env["rsts_version"], env!("CARGO_PKG_VERSION"));
+    assert!(env["cores"].as_u64().unwrap() >= 1, "{env}");
+    for key in ["cpu", "simd", "os", "commit"] {
+        assert!(!env[key].as_str().unwrap().is_empty(), "{key}: {env}");
+    }
+    assert!(
+        ["avx512", "avx2", "portable"].contains(&env["simd"].as_str().unwrap()),
+        "{env}"
+    );
+}

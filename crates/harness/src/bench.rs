@@ -33,6 +33,13 @@ pub struct BenchRow {
     /// Median over the repeats of the integrator's own time (an external integrator's
     /// `integration_seconds` when it reports one, else its wall time).
     pub integration_seconds: f64,
+    /// Smallest, median and largest of that time over the repeats.
+    #[serde(default)]
+    pub time_min: f64,
+    #[serde(default)]
+    pub time_median: f64,
+    #[serde(default)]
+    pub time_max: f64,
     pub steps: u64,
     pub rhs_evals: u64,
     /// Median over the repeats of the wall time measured around an external integrator
@@ -220,6 +227,9 @@ fn summarize(
             tolerances.map(|t| t.atol),
         ),
         integration_seconds: median(&seconds),
+        time_min: seconds.iter().copied().fold(f64::INFINITY, f64::min),
+        time_median: median(&seconds),
+        time_max: seconds.iter().copied().fold(f64::NEG_INFINITY, f64::max),
         steps: traj.stats.accepted_steps,
         rhs_evals: traj.stats.rhs_evals,
         wall_seconds: (!walls.is_empty()).then(|| median(&walls)),
@@ -373,6 +383,10 @@ mod tests {
         .unwrap();
         assert_eq!(k, 5, "every repeat runs");
         assert_eq!(row.integration_seconds, 2.0);
+        assert_eq!(
+            (row.time_min, row.time_median, row.time_max),
+            (0.5, 2.0, 40.0)
+        );
         assert_eq!(row.wall_seconds, Some(4.0));
         assert_eq!(
             (row.steps, row.rhs_evals),

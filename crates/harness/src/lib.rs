@@ -26,6 +26,7 @@ pub mod check;
 mod compare;
 pub mod digits;
 pub mod drift_growth;
+pub mod environment;
 pub mod geometry;
 pub mod growth;
 pub mod identify;

@@ -22,6 +22,7 @@ use rsts_harness::{
 
 mod plots;
 
+use rsts_harness::environment::Environment;
 use rsts_harness::proportionality::{fit_tolerances, ToleranceFit};
 
 use crate::args::{case_error, count, finite_f64, CaseArgs, MethodParser, MAX_SAMPLES};
@@ -157,6 +158,7 @@ struct Document<'a> {
     rows: &'a [BenchRow],
     /// Tolerance proportionality per method (two tolerances or more).
     fits: &'a [ToleranceFit],
+    environment: &'a Environment,
 }
 
 /// A row with how it is labelled and drawn.
@@ -377,6 +379,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     let plain: Vec<BenchRow> = rows.iter().map(|l| l.row.clone()).collect();
     let fits = fit_tolerances(&plain);
+    let environment = Environment::detect();
     if let Some(path) = &args.svg {
         let svg = plots::render(&case, args.repeats, &rows, args.cost)?;
         rsts_io::write_atomic(path, svg.as_bytes())
@@ -398,6 +401,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 taylor_mp_digits: uses_mp.then_some(mp_digits),
                 rows: &plain,
                 fits: &fits,
+                environment: &environment,
             },
         )?,
         Format::Csv => output::write_records_csv(out, &plain)?,
@@ -407,6 +411,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 "a = {}, b = {}, m = {}, h = {}, torus {}, T = {}, {} samples; time: median of {} runs",
                 case.a, case.b, case.m, case.h, case.torus, case.t_end, case.samples, args.repeats
             )?;
+            writeln!(out, "{}", environment.describe())?;
             output::write_table(out, &table(&rows))?;
             for f in &fits {
                 let label = rows
@@ -465,7 +470,7 @@ fn table(rows: &[Labelled]) -> Tabular {
         "max error",
         "scd min",
         "mescd min",
-        "seconds",
+        "seconds (min..max)",
         "steps",
         "rhs evals",
     ]);
@@ -477,7 +482,10 @@ fn table(rows: &[Labelled]) -> Tabular {
             Cell::Text(format!("{:.2e}", r.max_error)),
             Cell::Text(format!("{:.2}", r.correct_digits.scd_min)),
             Cell::Text(format!("{:.2}", r.correct_digits.mescd_min)),
-            Cell::Text(format!("{:.3e}", r.integration_seconds)),
+            Cell::Text(format!(
+                "{:.3e} ({:.2e}..{:.2e})",
+                r.integration_seconds, r.time_min, r.time_max
+            )),
             Cell::Int(r.steps),
             Cell::Int(r.rhs_evals),
         ]);
