@@ -7,11 +7,13 @@
 //! ```text
 //! request: {"protocol": "rsts-integrator/1", "a": "1", "b": "0.5",
 //!           "initial": {"omega": ["…", "…", "…"], "alpha": [...], "beta": [...]},
-//!           "times": [0, 0.1, …], "rtol": 1e-10, "atol": 1e-10, "digits": 36}
+//!           "times": [0, 0.1, …], "rtol": 1e-10, "atol": 1e-10, "digits": 36[, "step": 0.01]}
 //! answer:  {"name": "my-rk4", "samples": [{"t": 0, "omega": [3], "alpha": [3], "beta": [3]}, …],
 //!           "stats": {"steps": 123, "rhs_evals": 492, "integration_seconds": 0.01}}
 //! ```
 //!
+//! `"step"` is present only when a fixed step is asked (`rsts convergence`): every step of the
+//! integrator should then be h (each interval between two times is a whole number of steps).
 //! Parameters and the initial state are decimal strings carrying `digits` digits (the exact
 //! values the closed-form reference uses, rounded to that many digits); times are JSON numbers,
 //! starting at 0. The answer has one sample per time; its numbers may be JSON numbers or decimal
@@ -36,7 +38,7 @@ use serde_json::{json, Value};
 
 use rsts_dynamics::integrators::{Problem, Stats, Tolerances};
 use rsts_dynamics::scalar::bits_for_digits;
-use rsts_harness::{check_times, HarnessError, Integrator, Trajectory};
+use rsts_harness::{check_times, FixedStepIntegrator, HarnessError, Integrator, Trajectory};
 
 use crate::files::{parse_csv, parse_json};
 use crate::pipes::{Ended, Pipes};
@@ -143,6 +145,8 @@ pub struct Exec {
     /// reference must exceed).
     pub digits: u32,
     pub timeout: Duration,
+    /// A fixed step asked of the integrator (`"step"` in the request; convergence studies).
+    pub step: Option<f64>,
 }
 
 impl Exec {
@@ -164,6 +168,7 @@ impl Exec {
             tolerances,
             digits: DEFAULT_DIGITS,
             timeout: Duration::from_secs_f64(DEFAULT_TIMEOUT_SECONDS),
+            step: None,
         })
     }
 
@@ -215,7 +220,7 @@ impl Exec {
         let d = Some(self.digits as usize);
         let dec = |x: &Float| x.to_string_radix(10, d);
         let v3 = |v: &[Float; 3]| [dec(&v[0]), dec(&v[1]), dec(&v[2])];
-        json!({
+        let mut request = json!({
             "protocol": PROTOCOL,
             "a": dec(&problem.fields.a),
             "b": dec(&problem.fields.b),
@@ -228,7 +233,11 @@ impl Exec {
             "rtol": self.tolerances.rtol,
             "atol": self.tolerances.atol,
             "digits": self.digits,
-        })
+        });
+        if let Some(h) = self.step {
+            request["step"] = json!(h);
+        }
+        request
     }
 
     fn fail(&self, what: impl std::fmt::Display, stderr: &[u8]) -> HarnessError {
@@ -533,9 +542,63 @@ impl Integrator for Exec {
     }
 }
 
+/// At a fixed step: the request carries `"step": h` (an adapter that ignores it answers the
+/// same for every step and is refused by [`rsts_harness::convergence()`]).
+impl FixedStepIntegrator for Exec {
+    fn name(&self) -> String {
+        Integrator::name(self)
+    }
+
+    fn label(&self) -> String {
+        format!(
+            "{} (external integrator `{}`)",
+            Integrator::name(self),
+            self.command_line()
+        )
+    }
+
+    fn working_bits(&self) -> u32 {
+        Integrator::working_bits(self)
+    }
+
+    fn integrate_at(
+        &mut self,
+        step: f64,
+        problem: &Problem<Float>,
+        times: &[f64],
+    ) -> Result<Trajectory, HarnessError> {
+        self.step = Some(step);
+        let result = self.integrate(problem, times);
+        self.step = None;
+        result
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `"step"` is in the request only when a fixed step is asked.
+    #[test]
+    fn the_step_is_sent_only_when_asked() {
+        use rsts_dynamics::{Fields, State};
+        let f = |x: f64| Float::with_val(64, x);
+        let problem = Problem {
+            fields: Fields {
+                a: f(1.0),
+                b: f(0.5),
+            },
+            initial: State {
+                omega: [f(0.1), f(0.2), f(0.3)],
+                alpha: [f(1.0), f(0.0), f(0.0)],
+                beta: [f(0.0), f(1.0), f(0.0)],
+            },
+        };
+        let mut exec = Exec::new("x", Tolerances::new(1e-8, 1e-8).unwrap()).unwrap();
+        assert!(exec.request(&problem, &[0.0, 1.0]).get("step").is_none());
+        exec.step = Some(0.125);
+        assert_eq!(exec.request(&problem, &[0.0, 1.0])["step"], json!(0.125));
+    }
 
     #[test]
     fn commands_are_split_like_a_shell_would() {

@@ -207,7 +207,8 @@ pub fn parse_json(doc: &Value) -> Result<RawTrajectory, String> {
 }
 
 /// An npy file (as `numpy.save` writes it): float64, shape (N, 10), columns t and the nine
-/// components; C or Fortran order.
+/// components, or (N, 13) as `rsts reference` writes it (H, K, G after them, not read); C or
+/// Fortran order.
 pub fn parse_npy(bytes: &[u8]) -> Result<RawTrajectory, String> {
     let npy = npyz::NpyFile::new(bytes).map_err(|e| format!("not a valid npy file ({e})"))?;
     let dtype = match npy.dtype() {
@@ -220,25 +221,26 @@ pub fn parse_npy(bytes: &[u8]) -> Result<RawTrajectory, String> {
         ));
     }
     let shape = npy.shape().to_vec();
-    if shape.len() != 2 || shape[1] != 10 {
+    if shape.len() != 2 || (shape[1] != 10 && shape[1] != 13) {
         return Err(format!(
-            "shape {shape:?}: expected (N, 10) (columns {})",
+            "shape {shape:?}: expected (N, 10) (columns {}) or (N, 13) (with H,K,G)",
             COLUMNS.join(",")
         ));
     }
     let order = npy.order();
     let rows = shape[0] as usize;
+    let width = shape[1] as usize;
     let data: Vec<f64> = npy.into_vec().map_err(|e| {
-        format!("truncated or damaged data: {e} (expected {rows} rows of 10 float64)")
+        format!("truncated or damaged data: {e} (expected {rows} rows of {width} float64)")
     })?;
-    if data.len() != rows * 10 {
+    if data.len() != rows * width {
         return Err(format!(
-            "truncated: {} values, expected {rows} rows of 10",
+            "truncated: {} values, expected {rows} rows of {width}",
             data.len()
         ));
     }
     let at = |r: usize, c: usize| match order {
-        npyz::Order::C => data[r * 10 + c],
+        npyz::Order::C => data[r * width + c],
         npyz::Order::Fortran => data[c * rows + r],
     };
     let mut raw = RawTrajectory::default();
@@ -393,6 +395,16 @@ mod tests {
         assert_eq!(raw.states[2][8], Number::F64(2.0 + 0.9));
         let e = parse_npy(&bytes[..bytes.len() - 5]).unwrap_err();
         assert!(e.contains("truncated"), "{e}");
+        // The (N, 13) of `rsts reference`: H, K, G after the state are not read.
+        let wide: Vec<Vec<f64>> = (0..3)
+            .map(|k| (0..13).map(|c| k as f64 + 0.1 * c as f64).collect())
+            .collect();
+        let narrow: Vec<Vec<f64>> = wide.iter().map(|r| r[..10].to_vec()).collect();
+        assert_eq!(
+            parse_npy(&npy_bytes(&wide, 13)).unwrap(),
+            parse_npy(&npy_bytes(&narrow, 10)).unwrap()
+        );
+        assert!(parse_npy(&npy_bytes(&[vec![0.0; 12]], 12)).is_err());
         let e = parse_npy(&npy_bytes(&[vec![0.0; 9]], 9)).unwrap_err();
         assert!(e.contains("shape [1, 9]"), "{e}");
         let e = parse_npy(b"hello").unwrap_err();

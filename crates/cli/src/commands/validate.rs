@@ -19,7 +19,7 @@ use crate::external::TimeoutArgs;
 /// Shown at the end of `rsts validate --help`.
 pub const EXAMPLES: &str = "\
 Examples:
-  # the CI suite (236 runs, seconds) on all cores: report in out/quick
+  # the CI suite (241 runs, seconds) on all cores: report in out/quick
   rsts validate --suite validation/quick.toml --report out/quick
 
   # again, with that report as the baseline: exit 1 names every run that regressed (on a busy
