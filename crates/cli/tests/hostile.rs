@@ -52,6 +52,21 @@ fn guarded(args: &[&str], guard: u64) -> Output {
     }
 }
 
+/// `compare --exec ADAPTER --t-end 1 --samples 2 EXTRA…`, guarded (60 s).
+fn compare_exec(adapter: &str, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "compare",
+        "--exec",
+        adapter,
+        "--t-end",
+        "1",
+        "--samples",
+        "2",
+    ];
+    args.extend_from_slice(extra);
+    guarded(&args, 60)
+}
+
 /// An executable shell script `name` in `d`.
 fn script(d: &Path, name: &str, body: &str) -> String {
     use std::os::unix::fs::PermissionsExt;
@@ -386,22 +401,7 @@ fn i5_a_grandchild_holding_stdout_cannot_stretch_the_timeout() {
             s(&pid)
         ),
     );
-    let out = guarded(
-        &[
-            "compare",
-            "--exec",
-            &answers,
-            "--t-end",
-            "1",
-            "--samples",
-            "2",
-            "--exec-timeout",
-            "5",
-            "--format",
-            "json",
-        ],
-        60,
-    );
+    let out = compare_exec(&answers, &["--exec-timeout", "5", "--format", "json"]);
     kill_pid_in(&pid);
     assert_eq!(code(&out), Some(0), "{}", stderr(&out));
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -416,20 +416,7 @@ fn i5_a_grandchild_holding_stdout_cannot_stretch_the_timeout() {
             s(&pid2)
         ),
     );
-    let out = guarded(
-        &[
-            "compare",
-            "--exec",
-            &silent,
-            "--t-end",
-            "1",
-            "--samples",
-            "2",
-            "--exec-timeout",
-            "2",
-        ],
-        60,
-    );
+    let out = compare_exec(&silent, &["--exec-timeout", "2"]);
     kill_pid_in(&pid2);
     let e = stderr(&out);
     assert_eq!(code(&out), Some(2), "{e}");
@@ -450,18 +437,7 @@ fn i6_a_flood_on_stdout_is_cut_off_and_stderr_keeps_its_tail() {
             "cat >/dev/null\nhead -c 67108864 /dev/zero | tr '\\0' ' '\n{rsts_bin} reference --times 0,1 --format json"
         ),
     );
-    let out = guarded(
-        &[
-            "compare",
-            "--exec",
-            &flood,
-            "--t-end",
-            "1",
-            "--samples",
-            "2",
-        ],
-        60,
-    );
+    let out = compare_exec(&flood, &[]);
     let e = stderr(&out);
     assert_eq!(code(&out), Some(2), "{e}");
     assert!(
@@ -474,18 +450,7 @@ fn i6_a_flood_on_stdout_is_cut_off_and_stderr_keeps_its_tail() {
         "noisy.sh",
         "cat >/dev/null\nhead -c 16777216 /dev/zero | tr '\\0' 'x' >&2\necho >&2\necho 'THE REASON' >&2\nexit 3",
     );
-    let out = guarded(
-        &[
-            "compare",
-            "--exec",
-            &noisy,
-            "--t-end",
-            "1",
-            "--samples",
-            "2",
-        ],
-        60,
-    );
+    let out = compare_exec(&noisy, &[]);
     let e = stderr(&out);
     assert_eq!(code(&out), Some(2), "{e}");
     assert!(
@@ -663,20 +628,7 @@ fn user_an_adapter_states_its_digits() {
         "answers-20-digits.sh",
         &format!("cat >/dev/null\n{rsts_bin} reference --times 0,1 --digits 20 --format json"),
     );
-    let out = guarded(
-        &[
-            "compare",
-            "--exec",
-            &answers,
-            "--t-end",
-            "1",
-            "--samples",
-            "2",
-            "--format",
-            "json",
-        ],
-        60,
-    );
+    let out = compare_exec(&answers, &["--format", "json"]);
     assert_eq!(code(&out), Some(0), "{}", stderr(&out));
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(doc["digits"], 20, "{doc}");
