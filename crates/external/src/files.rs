@@ -8,7 +8,7 @@ use std::path::Path;
 
 use serde_json::Value;
 
-use crate::samples::{check_f64, check_text, Number, RawTrajectory};
+use crate::samples::{check_component, check_f64, check_text, Number, RawTrajectory};
 
 /// Columns every trajectory has, in the order of `rsts explicit --format csv` and
 /// `rsts integrate --format csv`.
@@ -107,6 +107,8 @@ fn unquote(s: &str) -> &str {
 /// ignored). A header written by `numpy.savetxt(..., header=...)` (starting with `# `) is
 /// accepted; other lines starting with `#` and blank lines are skipped.
 pub fn parse_csv(text: &str) -> Result<RawTrajectory, String> {
+    // A byte-order mark (as spreadsheet programs write) is not part of the first column's name.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut lines = text
         .lines()
         .enumerate()
@@ -134,6 +136,14 @@ pub fn parse_csv(text: &str) -> Result<RawTrajectory, String> {
             COLUMNS.join(",")
         ));
     }
+    if let Some(twice) = COLUMNS
+        .iter()
+        .find(|col| names.iter().filter(|n| *n == *col).count() > 1)
+    {
+        return Err(format!(
+            "line {header_line}: the header names column {twice} more than once (which one is meant?)"
+        ));
+    }
     let mut raw = RawTrajectory::default();
     for (k, line) in lines {
         if line.trim().is_empty() || line.trim_start().starts_with('#') {
@@ -149,6 +159,7 @@ pub fn parse_csv(text: &str) -> Result<RawTrajectory, String> {
         }
         let value = |c: usize| {
             check_text(fields[index[c]])
+                .and_then(|n| if c > 0 { check_component(n) } else { Ok(n) })
                 .map_err(|e| format!("line {k}, column {} ({}): {e}", index[c] + 1, COLUMNS[c]))
         };
         let t = value(0)?;
@@ -199,8 +210,9 @@ pub fn parse_json(doc: &Value) -> Result<RawTrajectory, String> {
                 .filter(|a| a.len() == 3)
                 .ok_or_else(|| format!("{place}: \"{key}\" must be an array of 3 numbers"))?;
             for (i, x) in arr.iter().enumerate() {
-                state[3 * v + i] =
-                    json_number(x).map_err(|e| format!("{place}.{key}[{i}]: {e}"))?;
+                state[3 * v + i] = json_number(x)
+                    .and_then(check_component)
+                    .map_err(|e| format!("{place}.{key}[{i}]: {e}"))?;
             }
         }
         raw.push(t, state, place);
@@ -249,6 +261,7 @@ pub fn parse_npy(bytes: &[u8]) -> Result<RawTrajectory, String> {
     for r in 0..rows {
         let cell = |c: usize| {
             check_f64(at(r, c))
+                .and_then(|n| if c > 0 { check_component(n) } else { Ok(n) })
                 .map_err(|e| format!("row {}, column {} ({}): {e}", r + 1, c + 1, COLUMNS[c]))
         };
         let t = cell(0)?;
@@ -284,11 +297,16 @@ pub fn read_mcap(path: &Path) -> Result<RawTrajectory, String> {
         let t = num(p.value.get("t"), "t")?;
         let mut state: [Number; 9] = std::array::from_fn(|_| Number::F64(0.0));
         for (v, key) in ["omega", "alpha", "beta"].iter().enumerate() {
-            for i in 0..3 {
-                state[3 * v + i] = num(
-                    p.value.get(key).and_then(|a| a.get(i)),
-                    &format!("{key}[{i}]"),
-                )?;
+            let arr = p
+                .value
+                .get(key)
+                .and_then(Value::as_array)
+                .filter(|a| a.len() == 3)
+                .ok_or_else(|| format!("{place}: \"{key}\" must be an array of 3 numbers"))?;
+            for (i, x) in arr.iter().enumerate() {
+                state[3 * v + i] = num(Some(x), &format!("{key}[{i}]")).and_then(|n| {
+                    check_component(n).map_err(|e| format!("{place}: {key}[{i}]: {e}"))
+                })?;
             }
         }
         raw.push(t, state, place);

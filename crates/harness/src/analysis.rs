@@ -16,6 +16,8 @@ use rsts_dynamics::{Fields, State};
 use rug::Float;
 
 use crate::case::Case;
+use crate::digits::{CorrectDigits, DigitsTracker};
+use crate::drift_growth::DriftSeries;
 use crate::geometry::Geometry;
 use crate::metrics::{
     exact_state, sample_errors, Drift, ManifoldN, Report, SampleErrors, StateSnapshot,
@@ -60,6 +62,8 @@ pub struct Analysis {
     initial_integrals: [Float; 3],
     bits: u32,
     report: Report,
+    digits: DigitsTracker,
+    drifts: DriftSeries,
     geometry: Option<Geometry>,
     /// The closed form in double-double, the reference of f64 data (digits ≤ 16).
     dd: Option<DdReference>,
@@ -99,6 +103,7 @@ impl Analysis {
             p2: c.p2.clone(),
             r4m: r4 * &c.m,
         };
+        let digits = DigitsTracker::new(info.rtol, info.atol);
         let start = exact_state(&motion.at(&Float::with_val(bits, 0)));
         let i0 = integrals(&fields, &start);
         let report = Report {
@@ -113,6 +118,7 @@ impl Analysis {
             max_state_error: 0.0,
             final_state_error: 0.0,
             max_orientation_error: 0.0,
+            correct_digits: CorrectDigits::default(),
             drift: Drift::default(),
             steps: 0,
             rejected_steps: 0,
@@ -133,6 +139,8 @@ impl Analysis {
             initial_integrals: [i0.h, i0.k, i0.g],
             bits,
             report,
+            digits,
+            drifts: DriftSeries::new(),
             geometry,
             dd: None,
             dd_measure: None,
@@ -311,6 +319,17 @@ impl Analysis {
         }
         let index = self.report.samples_compared;
         self.report.absorb(&errors);
+        self.digits.sample(&exact, state);
+        self.report.correct_digits = self.digits.summary();
+        self.drifts.push(
+            t.to_f64(),
+            [
+                errors.drift_h,
+                errors.drift_k,
+                errors.drift_g,
+                errors.constraint_drift,
+            ],
+        );
         observer
             .on_sample(&SampleRecord {
                 index,
@@ -351,6 +370,7 @@ impl Analysis {
     /// The report with the growth fits and the split of the error (docs/stability.md).
     pub fn finish(self) -> Report {
         let mut report = self.report;
+        report.drift.growth = Some(self.drifts.laws());
         if let Some(geometry) = self.geometry {
             let g = geometry.finish();
             report.normal = Some(g.normal);

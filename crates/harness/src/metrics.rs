@@ -8,6 +8,8 @@ use rsts_dynamics::{Fields, Real, State};
 use rug::Float;
 use serde::Serialize;
 
+use crate::digits::CorrectDigits;
+use crate::drift_growth::DriftGrowth;
 use crate::geometry::{ErrorSplit, NormalSummary, PhaseErrorSummary};
 
 /// A state as plotted and logged (f64): orientation rows α, β, γ, ω, Ω = Qω and H, K, G.
@@ -70,6 +72,8 @@ pub struct Drift {
     pub constraints: f64,
     #[serde(rename = "off_N")]
     pub off_n: f64,
+    /// Growth laws of the drifts of H, K, G and the constraints (null until the run is done).
+    pub growth: Option<DriftGrowth>,
 }
 
 /// The result of a comparison (the JSON of `rsts compare`).
@@ -90,6 +94,9 @@ pub struct Report {
     pub max_state_error: f64,
     pub final_state_error: f64,
     pub max_orientation_error: f64,
+    /// Correct digits (Bari test set): `scd`, `mescd`, `scd_min`, `mescd_min`.
+    #[serde(flatten)]
+    pub correct_digits: CorrectDigits,
     pub drift: Drift,
     pub steps: u64,
     pub rejected_steps: u64,
