@@ -35,4 +35,31 @@ fn check_reads_the_npy_and_csv_of_reference() {
     // (and |ω| < 2 here: ≤ 2⁻⁵²).
     let e = a["max_state_error"].as_f64().unwrap();
     assert!(e > 0.0 && e <= f64::EPSILON, "{e:e}");
+
+    // The same files on standard input (`rsts check -`) give the same report.
+    for (path, format) in [(&npy, "npy"), (&csv, "csv")] {
+        let mut args = vec!["check", "-", "--input-format", format, "--format", "json"];
+        args.extend(motion);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rsts"))
+            .args(&args)
+            .stdin(std::fs::File::open(path).unwrap())
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", common::stderr(&out));
+        let c: Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(c["file"], "<stdin>");
+        assert_eq!(c["method"], "<stdin>");
+        for key in [
+            "max_state_error",
+            "drift",
+            "samples_compared",
+            "phase_error",
+        ] {
+            assert_eq!(a[key], c[key], "{format} on stdin: {key}");
+        }
+    }
+    let e = common::fails(&["check", "-"]);
+    assert!(e.contains("--input-format"), "{e}");
+    let e = common::fails(&["check", s(&npy), "--input-format", "npy"]);
+    assert!(e.contains("--input-format: only for standard input"), "{e}");
 }

@@ -49,31 +49,45 @@ impl FileFormat {
 /// Read a trajectory file by its extension. The message of an error starts with the file name.
 pub fn read_trajectory(path: &Path) -> Result<RawTrajectory, String> {
     let name = path.display().to_string();
-    let format = FileFormat::of(path)?;
+    match FileFormat::of(path)? {
+        FileFormat::Mcap => {
+            let raw = read_mcap(path).map_err(|e| format!("{name}: {e}"))?;
+            checked(raw, &name)
+        }
+        format => {
+            let bytes = std::fs::read(path).map_err(|e| format!("{name}: cannot read ({e})"))?;
+            parse_trajectory(&bytes, format, &name)
+        }
+    }
+}
+
+/// A trajectory from the bytes of a CSV, JSON or npy document (standard input, say; an MCAP
+/// log is read from a file). The message of an error starts with `name`.
+pub fn parse_trajectory(
+    bytes: &[u8],
+    format: FileFormat,
+    name: &str,
+) -> Result<RawTrajectory, String> {
+    let text = || {
+        std::str::from_utf8(bytes)
+            .map_err(|e| format!("{name}: not UTF-8 text (byte {})", e.valid_up_to()))
+    };
     let raw = match format {
-        FileFormat::Csv | FileFormat::Json => {
-            let bytes = std::fs::read(path).map_err(|e| format!("{name}: cannot read ({e})"))?;
-            let text = String::from_utf8(bytes).map_err(|e| {
-                format!(
-                    "{name}: not UTF-8 text (byte {})",
-                    e.utf8_error().valid_up_to()
-                )
-            })?;
-            if format == FileFormat::Csv {
-                parse_csv(&text)
-            } else {
-                let value: Value = serde_json::from_str(&text)
-                    .map_err(|e| format!("{name}: not valid JSON ({e})"))?;
-                parse_json(&value)
-            }
+        FileFormat::Csv => parse_csv(text()?),
+        FileFormat::Json => {
+            let value: Value = serde_json::from_str(text()?)
+                .map_err(|e| format!("{name}: not valid JSON ({e})"))?;
+            parse_json(&value)
         }
-        FileFormat::Npy => {
-            let bytes = std::fs::read(path).map_err(|e| format!("{name}: cannot read ({e})"))?;
-            parse_npy(&bytes)
-        }
-        FileFormat::Mcap => read_mcap(path),
+        FileFormat::Npy => parse_npy(bytes),
+        FileFormat::Mcap => Err("an MCAP log is read from a file, not from a stream".into()),
     }
     .map_err(|e| format!("{name}: {e}"))?;
+    checked(raw, name)
+}
+
+/// At least one sample, times strictly increasing.
+fn checked(raw: RawTrajectory, name: &str) -> Result<RawTrajectory, String> {
     if raw.is_empty() {
         return Err(format!("{name}: no samples"));
     }
