@@ -11,11 +11,13 @@ The Python face of the ``rsts`` command-line tool, built from the same Rust crat
 - ``rsts.compare(integrator, case=None, ...)``: a built-in method or your Python integrator
   against the exact motion (``rsts compare``);
 - ``rsts.check(times, states, a, b, ...)``: a trajectory you computed against the exact motion
-  (``rsts check``).
+  (``rsts check``);
+- ``rsts.convergence(methods, steps, case=None, ...)``: built-in methods at fixed steps and their
+  observed orders (``rsts convergence``).
 
 Reports are the CLI's ``--format json`` documents, as dicts. See docs/python.md.
 """
 
-from ._rsts import METHODS, Case, __version__, check, compare, identify
+from ._rsts import METHODS, Case, __version__, check, compare, convergence, identify
 
-__all__ = ["Case", "METHODS", "check", "compare", "identify", "__version__"]
+__all__ = ["Case", "METHODS", "check", "compare", "convergence", "identify", "__version__"]
