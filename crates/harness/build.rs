@@ -18,20 +18,23 @@ fn main() {
         .filter(|s| !s.is_empty())
         .or_else(|| {
             // Rebuild when HEAD moves (a worktree's HEAD and the branch it points to).
-            for path in ["HEAD", "index"] {
-                if let Some(p) = git(&["rev-parse", "--git-path", path]) {
-                    println!("cargo:rerun-if-changed={p}");
-                }
+            if let Some(p) = git(&["rev-parse", "--git-path", "HEAD"]) {
+                println!("cargo:rerun-if-changed={p}");
             }
+            // The branch's ref file, or packed-refs when the ref is packed (a path that does not
+            // exist would rerun this script on every build).
             if let Some(r) = git(&["symbolic-ref", "-q", "HEAD"]) {
-                if let Some(p) = git(&["rev-parse", "--git-path", &r]) {
-                    println!("cargo:rerun-if-changed={p}");
+                for path in [r.as_str(), "packed-refs"] {
+                    match git(&["rev-parse", "--git-path", path]) {
+                        Some(p) if std::path::Path::new(&p).exists() => {
+                            println!("cargo:rerun-if-changed={p}");
+                            break;
+                        }
+                        _ => {}
+                    }
                 }
             }
-            let head = git(&["rev-parse", "--short=12", "HEAD"])?;
-            let dirty = git(&["status", "--porcelain", "--untracked-files=no"])
-                .is_some_and(|s| !s.is_empty());
-            Some(if dirty { format!("{head}-dirty") } else { head })
+            git(&["rev-parse", "--short=12", "HEAD"])
         })
         .unwrap_or_else(|| "unknown".to_string());
     println!("cargo:rustc-env=RSTS_GIT_COMMIT={commit}");

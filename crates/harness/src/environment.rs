@@ -15,7 +15,7 @@ pub struct Environment {
     pub cores: usize,
     pub os: String,
     pub rsts_version: String,
-    /// Git commit of the build (`-dirty` with uncommitted changes).
+    /// Git commit the build was made at (uncommitted changes are not marked).
     pub commit: String,
 }
 

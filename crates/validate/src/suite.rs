@@ -22,9 +22,16 @@ pub struct Thresholds {
     /// max over samples of max |x_int − x_exact| over (ω, α, β).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_state_error: Option<f64>,
-    /// max state error ≤ this × the run's rtol.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    /// max state error ≤ this × the run's rtol (also spelt `max_error_over_tolerance`, as bench
+    /// names the figure).
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        alias = "max_error_over_tolerance"
+    )]
     pub max_state_error_over_tol: Option<f64>,
+    /// Correct digits: the run's `mescd_min` (Bari test set, docs/compare.md) ≥ this.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub min_mescd: Option<f64>,
     /// max drift of H, K, G and of the constraints.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_drift: Option<f64>,
@@ -50,6 +57,7 @@ impl Thresholds {
             max_state_error_over_tol: self
                 .max_state_error_over_tol
                 .or(base.max_state_error_over_tol),
+            min_mescd: self.min_mescd.or(base.min_mescd),
             max_drift: self.max_drift.or(base.max_drift),
             max_off_n: self.max_off_n.or(base.max_off_n),
             closed_form_f64: self.closed_form_f64.or(base.closed_form_f64),
@@ -62,6 +70,7 @@ impl Thresholds {
         for (name, v) in [
             ("max_state_error", self.max_state_error),
             ("max_state_error_over_tol", self.max_state_error_over_tol),
+            ("min_mescd", self.min_mescd),
             ("max_drift", self.max_drift),
             ("max_off_n", self.max_off_n),
             ("closed_form_f64", self.closed_form_f64),
