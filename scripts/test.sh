@@ -5,8 +5,9 @@
 #   N  tests that passed, less those that skipped all their work for a missing optional tool
 #      (they call rsts_io::report_skip, which appends a line to $RSTS_SKIP_LOG);
 #   M  tests that failed;
-#   K  lines in $RSTS_SKIP_LOG (a whole test, or one part such as a documented example that
-#      needs heyoka) plus the tests marked #[ignore].
+#   K  lines in $RSTS_SKIP_LOG (a whole test, or one part such as the examples of a document
+#      that need heyoka: one line per document and missing tool, not per command) plus the
+#      tests marked #[ignore].
 # The Python package's tests (pytest, crates/python/tests) run after cargo's, in .venv-python
 # (scripts/install_python.sh builds the package there); their counts are added to N, M, K. When
 # Python 3 or the packages cannot be had they are one skip, `SKIPPED: python: REASON`.

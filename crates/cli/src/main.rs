@@ -10,6 +10,7 @@ mod commands;
 mod external;
 mod interrupt;
 mod invocation;
+mod jobs;
 mod output;
 
 use std::io::{self, Write};
@@ -126,6 +127,28 @@ fn is_broken_pipe(err: &anyhow::Error) -> bool {
     })
 }
 
+/// Standard output whose errors say so ("writing stdout: No space left on device").
+struct Stdout<W: Write>(W);
+
+impl<W: Write> Stdout<W> {
+    fn name(e: io::Error) -> io::Error {
+        if e.kind() == io::ErrorKind::BrokenPipe {
+            e
+        } else {
+            io::Error::new(e.kind(), format!("writing stdout: {e}"))
+        }
+    }
+}
+
+impl<W: Write> Write for Stdout<W> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.0.write(buf).map_err(Self::name)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.0.flush().map_err(Self::name)
+    }
+}
+
 fn main() -> ExitCode {
     interrupt::install();
     let cli = match Cli::try_parse() {
@@ -134,7 +157,7 @@ fn main() -> ExitCode {
         Err(e) => e.exit(),
     };
     let stdout = io::stdout();
-    let mut out = io::BufWriter::new(stdout.lock());
+    let mut out = Stdout(io::BufWriter::new(stdout.lock()));
     let result = cli
         .command
         .run(&mut out)

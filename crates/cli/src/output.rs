@@ -173,7 +173,11 @@ pub fn write_table_rows<I: Iterator<Item = Vec<Cell>>>(
     let line = |items: &mut dyn Iterator<Item = String>| -> String {
         let padded: Vec<String> = items
             .zip(&widths)
-            .map(|(s, &w)| format!("{s:>w$}"))
+            // Padded by hand: a format width is limited to 65535 (a 100000-digit cell panicked).
+            .map(|(s, &w)| {
+                let pad = w.saturating_sub(s.chars().count());
+                format!("{}{s}", " ".repeat(pad))
+            })
             .collect();
         padded.join("  ")
     };

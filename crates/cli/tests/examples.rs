@@ -485,6 +485,43 @@ fn quote(s: &str) -> String {
     format!("'{}'", s.replace('\'', r"'\''"))
 }
 
+/// The skipped examples of one document grouped by the tools they miss: one skip each (a block
+/// under `# needs: heyoka` is one thing skipped, not one per command line).
+fn skip_groups(skipped: Vec<(Example, Vec<String>)>) -> Vec<(Vec<String>, Vec<Example>)> {
+    let mut groups: Vec<(Vec<String>, Vec<Example>)> = Vec::new();
+    for (ex, missing) in skipped {
+        match groups.iter_mut().find(|(m, _)| *m == missing) {
+            Some((_, v)) => v.push(ex),
+            None => groups.push((missing, vec![ex])),
+        }
+    }
+    groups
+}
+
+#[test]
+fn a_skipped_block_counts_once() {
+    let block = "```sh\n# needs: heyoka\nrsts a\nrsts b\nrsts c\n```\n";
+    let lines: Vec<(usize, String)> = block
+        .lines()
+        .enumerate()
+        .skip(1)
+        .take(4)
+        .map(|(k, l)| (k + 1, l.to_string()))
+        .collect();
+    let examples = parse_block(&lines).unwrap();
+    assert_eq!(examples.len(), 3, "{examples:?}");
+    let heyoka = vec!["heyoka".to_string()];
+    let mut skipped: Vec<_> = examples.into_iter().map(|e| (e, heyoka.clone())).collect();
+    let scipy = Example {
+        needs: vec!["scipy".into()],
+        ..skipped[0].0.clone()
+    };
+    skipped.push((scipy, vec!["scipy".into()]));
+    let groups = skip_groups(skipped);
+    assert_eq!(groups.len(), 2, "one skip per missing tool set");
+    assert_eq!(groups[0].1.len(), 3);
+}
+
 /// What became of one document's examples.
 struct Outcome {
     failures: Vec<String>,
@@ -690,13 +727,18 @@ fn every_documented_example_runs_as_written() {
     for (_, doc, outcome, changed) in results {
         ran += outcome.ran;
         failures.extend(outcome.failures);
-        for (ex, missing) in outcome.skipped {
+        for (missing, examples) in skip_groups(outcome.skipped) {
+            let first = &examples[0];
+            let more = match examples.len() {
+                1 => String::new(),
+                n => format!(" and {} more command(s) of the document", n - 1),
+            };
             rsts_io::report_skip(
-                &format!("example {}:{}", doc.source, ex.line),
+                &format!("example {}:{}", doc.source, first.line),
                 &format!(
-                    "needs {} (`{}`)",
+                    "needs {} (`{}`{more})",
                     missing.join(", "),
-                    ex.command.lines().next().unwrap_or("")
+                    first.command.lines().next().unwrap_or("")
                 ),
             );
         }

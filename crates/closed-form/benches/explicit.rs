@@ -1,4 +1,4 @@
-//! Time per closed-form state in f64 and at 30, 100 and 1000 digits, at t = 1, 1e3, 1e6 and 1.5e9
+//! Time per closed-form state in f64, double-double and at 30, 100 and 1000 digits, at t = 1, 1e3, 1e6 and 1.5e9
 //! (the cost must not grow with t: the phase is reduced modulo the period).
 //!
 //!     cargo bench -p rsts-closed-form --bench explicit
@@ -6,7 +6,7 @@
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
 use rsts_closed_form::scalar::Scalar;
 use rsts_closed_form::{ExplicitMotion, TorusChoice};
-use rsts_dynamics::scalar::bits_for_digits;
+use rsts_dynamics::scalar::{bits_for_digits, DoubleDouble};
 use rug::Float;
 
 const CHOICE: TorusChoice = TorusChoice {
@@ -34,6 +34,7 @@ fn bench_in<T: Scalar>(c: &mut Criterion, label: &str, bits: u32) {
 
 fn states(c: &mut Criterion) {
     bench_in::<f64>(c, "f64", 53);
+    bench_in::<DoubleDouble>(c, "double-double", 106);
     for digits in [30, 100, 1000] {
         bench_in::<Float>(c, &format!("{digits}-digits"), bits_for_digits(digits));
     }

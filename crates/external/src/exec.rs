@@ -17,7 +17,8 @@
 //! Parameters and the initial state are decimal strings carrying `digits` digits (the exact
 //! values the closed-form reference uses, rounded to that many digits); times are JSON numbers,
 //! starting at 0. The answer has one sample per time; its numbers may be JSON numbers or decimal
-//! strings; `name` and `stats` are optional. Instead of JSON the answer may be the CSV of
+//! strings; `name`, `stats` and `digits` (the integrator's working precision in decimal digits,
+//! e.g. 15 for f64, reported instead of the request's) are optional. Instead of JSON the answer may be the CSV of
 //! `rsts check` (header `t,omega1,…,beta3`). rsts measures the child's wall time; the
 //! `integration_seconds` of the answer, when present, is the time reported.
 //!
@@ -27,11 +28,9 @@
 //! killed when the child is done or overdue, and the child is always waited for (no zombie).
 
 use std::collections::BTreeSet;
-use std::io::{Read, Write};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
-use std::thread;
 use std::time::{Duration, Instant};
 
 use rug::Float;
@@ -42,11 +41,15 @@ use rsts_dynamics::scalar::bits_for_digits;
 use rsts_harness::{check_times, FixedStepIntegrator, HarnessError, Integrator, Trajectory};
 
 use crate::files::{parse_csv, parse_json};
+use crate::pipes::{Ended, Pipes};
 
 /// The protocol name a request carries.
 pub const PROTOCOL: &str = "rsts-integrator/1";
 /// Default time a child may take (seconds).
 pub const DEFAULT_TIMEOUT_SECONDS: f64 = 600.0;
+/// Longest time a child may be given (seconds): every timeout (`--exec-timeout`, a suite's
+/// `[adapters.NAME] timeout`) is checked by [`check_timeout`].
+pub const MAX_TIMEOUT_SECONDS: f64 = 1e9;
 /// Default decimal digits of the parameters and initial state of a request.
 pub const DEFAULT_DIGITS: u32 = 36;
 /// Lines of a child's stderr shown in an error.
@@ -72,6 +75,18 @@ fn kill_group(pgid: i32) {
     // SAFETY: kill(2) with a negative pid signals a process group; no memory is involved.
     unsafe {
         libc::kill(-pgid, libc::SIGKILL);
+    }
+}
+
+/// The one rule for a timeout: a finite number of seconds, > 0 and at most
+/// [`MAX_TIMEOUT_SECONDS`] (about 31 years; a deadline that far ahead never overflows).
+pub fn check_timeout(seconds: f64) -> Result<Duration, String> {
+    if seconds.is_finite() && seconds > 0.0 && seconds <= MAX_TIMEOUT_SECONDS {
+        Ok(Duration::from_secs_f64(seconds))
+    } else {
+        Err(format!(
+            "must be a positive number of seconds, at most {MAX_TIMEOUT_SECONDS:e}; got {seconds}"
+        ))
     }
 }
 
@@ -123,6 +138,8 @@ pub struct Exec {
     /// Name given by the user (a suite's adapter name); else the answer's, else the program's.
     name: Option<String>,
     answered_name: Option<String>,
+    /// The working precision the answer stated (`"digits"`), reported instead of the request's.
+    answered_digits: Option<u32>,
     pub tolerances: Tolerances,
     /// Digits of the parameters and initial state in the request (also the precision the
     /// reference must exceed).
@@ -147,6 +164,7 @@ impl Exec {
             argv,
             name: None,
             answered_name: None,
+            answered_digits: None,
             tolerances,
             digits: DEFAULT_DIGITS,
             timeout: Duration::from_secs_f64(DEFAULT_TIMEOUT_SECONDS),
@@ -169,14 +187,9 @@ impl Exec {
         Ok(self)
     }
 
-    /// Time the child may take (positive, finite seconds).
+    /// Time the child may take ([`check_timeout`]).
     pub fn with_timeout(mut self, seconds: f64) -> Result<Self, String> {
-        if !(seconds.is_finite() && seconds > 0.0) {
-            return Err(format!(
-                "the timeout must be a positive number of seconds, got {seconds}"
-            ));
-        }
-        self.timeout = Duration::from_secs_f64(seconds);
+        self.timeout = check_timeout(seconds)?;
         Ok(self)
     }
 
@@ -235,8 +248,13 @@ impl Exec {
         ))
     }
 
-    /// Run the child on `request`: its stdout, stderr and wall time.
-    pub fn run_raw(&self, request: &[u8]) -> Result<(Vec<u8>, Vec<u8>, f64), HarnessError> {
+    /// Run the child on `request`: its stdout (at most `max_answer` bytes, else an error), the
+    /// end of its stderr and its wall time.
+    pub fn run_raw(
+        &self,
+        request: &[u8],
+        max_answer: usize,
+    ) -> Result<(Vec<u8>, Vec<u8>, f64), HarnessError> {
         let mut cmd = Command::new(&self.argv[0]);
         cmd.args(&self.argv[1..])
             .stdin(Stdio::piped())
@@ -256,7 +274,7 @@ impl Exec {
         if let Ok(mut set) = RUNNING.lock() {
             set.insert(pgid);
         }
-        let result = self.talk(&mut child, request, started);
+        let result = self.talk(&mut child, request, started, max_answer);
         // Whatever happened: no process of the group left behind, the child reaped.
         kill_group(pgid);
         let _ = child.wait();
@@ -271,46 +289,38 @@ impl Exec {
         child: &mut Child,
         request: &[u8],
         started: Instant,
+        max_answer: usize,
     ) -> Result<(Vec<u8>, Vec<u8>, f64), HarnessError> {
-        let mut stdin = child.stdin.take().expect("piped");
-        let request = request.to_vec();
-        // A child that does not read its input must not block us: write from a thread, and
-        // ignore a broken pipe (its exit status and answer tell what went wrong).
-        let writer = thread::spawn(move || {
-            let _ = stdin.write_all(&request);
-        });
-        let reader = |mut r: Box<dyn Read + Send>| {
-            thread::spawn(move || {
-                let mut buf = Vec::new();
-                let _ = r.read_to_end(&mut buf);
-                buf
-            })
-        };
-        let out = reader(Box::new(child.stdout.take().expect("piped")));
-        let err = reader(Box::new(child.stderr.take().expect("piped")));
-        let status = wait_until(child, started + self.timeout);
+        // One thread serves the three pipes until the deadline, whatever still holds them.
+        let mut pipes = Pipes::new(child, request, max_answer);
+        let ended = pipes.serve(child, started + self.timeout);
         let wall = started.elapsed().as_secs_f64();
-        if status.is_none() {
-            kill_group(child.id() as i32);
-        }
-        let _ = child.wait();
         kill_group(child.id() as i32);
-        let _ = writer.join();
-        let stdout = out.join().unwrap_or_default();
-        let stderr = err.join().unwrap_or_default();
-        match status {
-            None => Err(self.fail(
+        let _ = child.wait();
+        let (stdout, stderr) = (
+            std::mem::take(&mut pipes.out),
+            std::mem::take(&mut pipes.err),
+        );
+        match ended {
+            Ended::Overdue => Err(self.fail(
                 format_args!(
                     "no answer within {} s (the timeout, --exec-timeout); the process was killed",
                     self.timeout.as_secs_f64()
                 ),
                 &stderr,
             )),
-            Some(_) if STOPPED.load(Ordering::SeqCst) => {
+            Ended::TooLong => Err(self.fail(
+                format_args!(
+                    "its answer passed {max_answer} bytes, the most an answer to this request may take \
+                     (samples x digits, see docs/output.md); the process was killed"
+                ),
+                &stderr,
+            )),
+            Ended::Exited(_) if STOPPED.load(Ordering::SeqCst) => {
                 Err(self.fail("stopped (Ctrl-C)", &stderr))
             }
-            Some(s) if !s.success() => Err(self.fail(describe_status(s), &stderr)),
-            Some(_) => Ok((stdout, stderr, wall)),
+            Ended::Exited(s) if !s.success() => Err(self.fail(describe_status(s), &stderr)),
+            Ended::Exited(_) => Ok((stdout, stderr, wall)),
         }
     }
 
@@ -337,6 +347,7 @@ impl Exec {
             return Err(self.fail("it wrote no answer on stdout", stderr));
         }
         let mut answered = None;
+        let mut digits = None;
         let (raw, stats) = if text.trim_start().starts_with('{') {
             let doc: Value =
                 serde_json::from_str(text).map_err(|e| garbage(format!("invalid JSON: {e}")))?;
@@ -348,12 +359,24 @@ impl Exec {
                 answered = Some(name.to_string());
             }
             let stats = parse_stats(doc.get("stats")).map_err(garbage)?;
+            if let Some(d) = doc.get("digits").filter(|d| !d.is_null()) {
+                let d = d
+                    .as_u64()
+                    .filter(|d| (1..=10_000).contains(d))
+                    .ok_or_else(|| {
+                        garbage("\"digits\" must be a whole number from 1 to 10000".into())
+                    })?;
+                digits = Some(d as u32);
+            }
             (parse_json(&doc).map_err(garbage)?, stats)
         } else {
             (parse_csv(text).map_err(garbage)?, (None, None, None))
         };
         if answered.is_some() {
             self.answered_name = answered;
+        }
+        if digits.is_some() {
+            self.answered_digits = digits;
         }
         if raw.len() != times.len() {
             return Err(self.fail(
@@ -427,22 +450,12 @@ fn parse_stats(v: Option<&Value>) -> Result<AnswerStats, String> {
     ))
 }
 
-/// Wait for the child until `deadline`; `None` when it is still running then.
-fn wait_until(child: &mut Child, deadline: Instant) -> Option<ExitStatus> {
-    let mut pause = Duration::from_micros(200);
-    loop {
-        match child.try_wait() {
-            Ok(Some(status)) => return Some(status),
-            Ok(None) => {}
-            Err(_) => return None,
-        }
-        let now = Instant::now();
-        if now >= deadline {
-            return None;
-        }
-        thread::sleep(pause.min(deadline - now));
-        pause = (pause * 2).min(Duration::from_millis(20));
-    }
+/// The most bytes an answer of `samples` samples at `digits` digits may take: 1 MiB, plus per
+/// sample ten values of up to `digits` + 40 characters and 400 of keys and layout (pretty JSON),
+/// doubled. Far more than any honest answer; a bound on what an adapter can make us hold.
+pub fn max_answer(samples: usize, digits: u32) -> usize {
+    let per_sample = 10 * (digits as usize + 40) + 400;
+    (1 << 20) + 2 * samples.saturating_mul(per_sample)
 }
 
 fn describe_status(s: ExitStatus) -> String {
@@ -498,7 +511,7 @@ impl Integrator for Exec {
     }
 
     fn digits(&self) -> u32 {
-        self.digits
+        self.answered_digits.unwrap_or(self.digits)
     }
 
     fn integrate(
@@ -510,7 +523,8 @@ impl Integrator for Exec {
         let bits = problem.initial.omega[0].prec();
         let request = serde_json::to_vec(&self.request(problem, times))
             .map_err(|e| HarnessError::Integrator(format!("cannot write the request: {e}")))?;
-        let (stdout, stderr, wall) = self.run_raw(&request)?;
+        let (stdout, stderr, wall) =
+            self.run_raw(&request, max_answer(times.len(), self.digits))?;
         let (states, mut stats) = self.parse_answer(&stdout, &stderr, times, bits)?;
         if stats.integration_seconds.is_nan() {
             stats.integration_seconds = wall;

@@ -118,6 +118,7 @@ pub fn compare_integrator(
         };
         let traj = integrator.integrate(&problem, &[0.0])?;
         analysis.rename(integrator.name());
+        analysis.set_digits(integrator.digits());
         analysis.add_stats(&traj.stats);
         if let Some(w) = traj.wall_seconds {
             analysis.add_wall_seconds(w);
@@ -150,6 +151,7 @@ pub fn compare_integrator(
         let traj = integrator.integrate(&problem, &local.times())?;
         // An external integrator may name itself in its answer.
         analysis.rename(integrator.name());
+        analysis.set_digits(integrator.digits());
         if traj.states.len() != local.samples || traj.times.len() != local.samples {
             return Err(HarnessError::Case(format!(
                 "{} returned {} states for {} sample times",

@@ -25,12 +25,17 @@ mod case;
 pub mod check;
 mod compare;
 pub mod convergence;
+pub mod digits;
+pub mod drift_growth;
+pub mod environment;
 pub mod geometry;
 pub mod growth;
 pub mod identify;
 pub mod integrator;
 mod metrics;
+pub mod proportionality;
 pub mod reference;
+pub mod rounded_reference;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
 pub use bench::{measure, measure_against, measure_integrator, BenchRow, Reference};
@@ -44,6 +49,7 @@ pub use convergence::{
     convergence, fit_order, ConvergencePlan, ConvergenceReport, ConvergenceRow,
     FixedStepIntegrator, FixedStepMethod, OrderFit,
 };
+pub use digits::CorrectDigits;
 pub use integrator::{check_times, Integrator, Propagated, Trajectory};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot};
 pub use rsts_dynamics::integrators::MethodConfig;

@@ -60,13 +60,26 @@ pub fn error_chart(case: &str, torus: usize, runs: &[&RunResult]) -> Chart {
             pts(&r.series.state_error),
             Style::Line,
         ));
-        let mut off = Series::new(
-            format!("{} off N", method_label(r)),
-            pts(&r.series.off_n),
-            Style::Line,
-        );
-        off.dashed = true;
-        series.push(off);
+        // The distance from N, as the axis label says (off_N, the drift of the on-N integral
+        // relations, stays near round-off while the state leaves N: camera V).
+        let finite = |v: &[f64]| -> Vec<(f64, f64)> {
+            r.series
+                .t
+                .iter()
+                .copied()
+                .zip(v.iter().copied())
+                .filter(|(_, y)| y.is_finite())
+                .collect()
+        };
+        if !r.series.distance_from_n.is_empty() {
+            let mut dist = Series::new(
+                format!("{} distance from N", method_label(r)),
+                finite(&r.series.distance_from_n),
+                Style::Line,
+            );
+            dist.dashed = true;
+            series.push(dist);
+        }
     }
     let camera = runs.first().map(|r| r.camera.as_str()).unwrap_or("");
     Chart {

@@ -49,6 +49,9 @@ pub struct Figures {
     pub rejected_steps: u64,
     pub rhs_evals: u64,
     pub samples_compared: usize,
+    /// Correct digits of the worst sample (Bari mescd; absent: no error at all).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub mescd_min: Option<f64>,
 }
 
 impl Figures {
@@ -89,6 +92,10 @@ pub struct Series {
     pub state_error: Vec<f64>,
     #[serde(rename = "off_N")]
     pub off_n: Vec<f64>,
+    /// The distance of the integrated state from N (NaN where its geometry could not be
+    /// computed); empty in reports written before it was kept.
+    #[serde(rename = "distance_from_N", default)]
+    pub distance_from_n: Vec<f64>,
 }
 
 /// Wall-clock figures: the only part of a result that changes from run to run.
@@ -153,6 +160,7 @@ struct Collector {
     t: Vec<f64>,
     state_error: Vec<f64>,
     off_n: Vec<f64>,
+    distance_from_n: Vec<f64>,
 }
 
 impl Observer for Collector {
@@ -160,6 +168,7 @@ impl Observer for Collector {
         self.t.push(r.t);
         self.state_error.push(r.errors.state_error);
         self.off_n.push(r.errors.off_n);
+        self.distance_from_n.push(r.errors.distance_from_n);
         Ok(())
     }
 }
@@ -226,6 +235,13 @@ fn judge(r: &mut RunResult) {
             th.closed_form_residual,
             String::new(),
         );
+    }
+    if let (Some(min), Some(f)) = (th.min_mescd, &r.figures) {
+        let digits = f.mescd_min.unwrap_or(f64::INFINITY);
+        // NaN fails.
+        if digits.is_nan() || digits < min {
+            fails.push(format!("mescd_min {digits:.2} < {min:.2} correct digits"));
+        }
     }
     if let (Some(min), Some(fit)) = (th.min_order, &r.convergence) {
         // NaN fails.
@@ -390,6 +406,7 @@ fn integrate_run(run: &Run, integrator: &mut dyn Integrator, r: &mut RunResult) 
                 rejected_steps: rep.rejected_steps,
                 rhs_evals: rep.rhs_evals,
                 samples_compared: rep.samples_compared,
+                mescd_min: Some(rep.correct_digits.mescd_min).filter(|d| d.is_finite()),
             });
             r.timing.integration_seconds = rep.integration_seconds;
             r.normal = rep.normal.clone();
@@ -404,6 +421,7 @@ fn integrate_run(run: &Run, integrator: &mut dyn Integrator, r: &mut RunResult) 
                 t: idx.iter().map(|&k| obs.t[k]).collect(),
                 state_error: idx.iter().map(|&k| obs.state_error[k]).collect(),
                 off_n: idx.iter().map(|&k| obs.off_n[k]).collect(),
+                distance_from_n: idx.iter().map(|&k| obs.distance_from_n[k]).collect(),
             };
         }
     }
@@ -479,6 +497,34 @@ mod tests {
         );
         // Same figures whatever the number of threads.
         assert_eq!(int.figures, Some(f));
+    }
+
+    /// `min_mescd` and `max_error_over_tolerance` (the bench name of max_state_error_over_tol)
+    /// pass a run that meets them and fail, naming the figure, one that does not.
+    #[test]
+    fn correct_digits_and_error_over_tolerance_thresholds() {
+        let text = |thr: &str| {
+            format!(
+                "[[case]]\nname = \"c\"\nm = 0.3\nh = -0.375\nt_end = 10.0\nsamples = 21\nmethods = [\"dop853\"]\ntolerances = [1e-10]\nclosed_form = false\n[case.thresholds]\n{thr}\n"
+            )
+        };
+        let run = |thr: &str| {
+            let suite = Suite::parse(&text(thr), "s").unwrap();
+            execute_all(&suite.runs, 1, &|_| {}).unwrap().remove(0)
+        };
+        let r = run("min_mescd = 6.0\nmax_error_over_tolerance = 1e4");
+        assert_eq!(r.status, Status::Pass, "{:?}", r.failures);
+        let digits = r.figures.unwrap().mescd_min.unwrap();
+        // dop853 at 1e-10 over T = 10: about 9 correct digits.
+        assert!(digits > 7.0 && digits < 12.0, "{digits}");
+        assert_eq!(r.thresholds.max_state_error_over_tol, Some(1e4));
+        let r = run(&format!("min_mescd = {}", digits + 0.5));
+        assert_eq!(r.status, Status::Fail);
+        assert!(r.failures[0].starts_with("mescd_min"), "{:?}", r.failures);
+        let r = run("max_error_over_tolerance = 1e-3");
+        assert_eq!(r.status, Status::Fail);
+        assert!(r.failures[0].contains("rtol"), "{:?}", r.failures);
+        assert!(Suite::parse(&text("min_mescd = -1.0"), "s").is_err());
     }
 
     #[test]

@@ -24,9 +24,16 @@ pub struct Thresholds {
     /// max over samples of max |x_int − x_exact| over (ω, α, β).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_state_error: Option<f64>,
-    /// max state error ≤ this × the run's rtol.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    /// max state error ≤ this × the run's rtol (also spelt `max_error_over_tolerance`, as bench
+    /// names the figure).
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        alias = "max_error_over_tolerance"
+    )]
     pub max_state_error_over_tol: Option<f64>,
+    /// Correct digits: the run's `mescd_min` (Bari test set, docs/compare.md) ≥ this.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub min_mescd: Option<f64>,
     /// max drift of H, K, G and of the constraints.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_drift: Option<f64>,
@@ -52,6 +59,7 @@ impl Thresholds {
             max_state_error_over_tol: self
                 .max_state_error_over_tol
                 .or(base.max_state_error_over_tol),
+            min_mescd: self.min_mescd.or(base.min_mescd),
             max_drift: self.max_drift.or(base.max_drift),
             max_off_n: self.max_off_n.or(base.max_off_n),
             closed_form_f64: self.closed_form_f64.or(base.closed_form_f64),
@@ -64,6 +72,7 @@ impl Thresholds {
         for (name, v) in [
             ("max_state_error", self.max_state_error),
             ("max_state_error_over_tol", self.max_state_error_over_tol),
+            ("min_mescd", self.min_mescd),
             ("max_drift", self.max_drift),
             ("max_off_n", self.max_off_n),
             ("closed_form_f64", self.closed_form_f64),
@@ -314,6 +323,10 @@ pub struct Suite {
 
 /// Largest number of samples of one run (every sample is kept for the fits).
 pub const MAX_SAMPLES: usize = 1_000_000;
+/// Most runs a suite may expand to (refused at once above it: the runs are held in memory).
+pub const MAX_RUNS: usize = 20_000;
+/// Largest suite file read (bytes).
+pub const MAX_SUITE_BYTES: u64 = 4 * 1024 * 1024;
 
 /// Default thresholds of the closed-form check (f64 against 50 digits; residual at 50 digits).
 pub const DEFAULT_CLOSED_FORM_F64: f64 = 1e-12;
@@ -336,8 +349,22 @@ impl Suite {
         path: &Path,
         exec: Option<(&str, &AdapterSpec)>,
     ) -> Result<Suite, ValidateError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| ValidateError::Io(format!("cannot read suite {}: {e}", path.display())))?;
+        let cannot = |e: std::io::Error| {
+            ValidateError::Io(format!("cannot read suite {}: {e}", path.display()))
+        };
+        let file = std::fs::File::open(path).map_err(cannot)?;
+        let mut text = String::new();
+        std::io::Read::read_to_string(
+            &mut std::io::Read::take(file, MAX_SUITE_BYTES + 1),
+            &mut text,
+        )
+        .map_err(cannot)?;
+        if text.len() as u64 > MAX_SUITE_BYTES {
+            return Err(ValidateError::Suite(format!(
+                "{}: larger than {MAX_SUITE_BYTES} bytes (4 MiB), the most a suite file may have; split it",
+                path.display()
+            )));
+        }
         let fallback = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
@@ -385,11 +412,8 @@ impl Suite {
                 )));
             }
             if let Some(t) = adapter.timeout {
-                if !(t.is_finite() && t > 0.0) {
-                    return Err(ValidateError::Suite(format!(
-                        "adapter '{name}': timeout must be a positive number of seconds, got {t}"
-                    )));
-                }
+                rsts_external::check_timeout(t)
+                    .map_err(|e| ValidateError::Suite(format!("[adapters.{name}] timeout: {e}")))?;
             }
         }
         let mut runs = Vec::new();
@@ -402,6 +426,9 @@ impl Suite {
                 )));
             }
             runs.extend(expand_case(&file.defaults, &file.adapters, spec)?);
+            if runs.len() > MAX_RUNS {
+                return Err(too_many_runs(runs.len(), &spec.name));
+            }
         }
         runs.sort_by(|x, y| x.id.cmp(&y.id));
         for w in runs.windows(2) {
@@ -419,6 +446,13 @@ impl Suite {
             runs,
         })
     }
+}
+
+/// A suite that expands to more than [`MAX_RUNS`] runs (counted up to case `name`).
+fn too_many_runs(runs: usize, name: &str) -> ValidateError {
+    ValidateError::Suite(format!(
+        "the suite expands to {runs} runs by case '{name}', more than the {MAX_RUNS} a suite may have; split it into several suites (or shards of one)"
+    ))
 }
 
 /// FNV-1a, 64 bits.
@@ -651,13 +685,19 @@ fn expand_case(
     let digits = spec.digits.or(defaults.digits);
     let step = spec.step.or(defaults.step);
     let closed_form = spec.closed_form.or(defaults.closed_form).unwrap_or(true);
-    if methods.is_empty() && !closed_form {
+    if methods.is_empty() {
         return Err(e(
-            "no methods and closed_form = false: nothing to run".into()
+            "methods is an empty list: name at least one (leave methods out for dop853)".into(),
         ));
     }
-    if !methods.is_empty() && tolerances.is_empty() {
+    if tolerances.is_empty() {
         return Err(e("tolerances is an empty list".into()));
+    }
+    let count = tori
+        .len()
+        .saturating_mul(usize::from(closed_form) + methods.len().saturating_mul(tolerances.len()));
+    if count > MAX_RUNS {
+        return Err(too_many_runs(count, &spec.name));
     }
     let mut thresholds = spec.thresholds.over(defaults.thresholds);
     thresholds.check(&what)?;

@@ -35,9 +35,13 @@ Examples:
   # log the comparison for a viewer
   rsts check out/traj.csv --mcap out/check.mcap
 
+  # a trajectory on standard input
+  rsts check - --input-format csv < out/traj.csv
+
 FILE by extension: .csv (header t,omega1,omega2,omega3,alpha1,alpha2,alpha3,beta1,beta2,beta3;
 other columns ignored), .json ({\"samples\": [{\"t\", \"omega\", \"alpha\", \"beta\"}]}), .npy
-(float64, shape (N, 10)), .mcap (/integrated/state of an rsts log). Times strictly increasing,
+(float64, shape (N, 10), or (N, 13) as `rsts reference -o x.npy` writes it), .mcap
+(/integrated/state of an rsts log). Times strictly increasing,
 any spacing. Without --m/--h the motion is identified from the first row (which must lie on N).
 Values with at most 17 significant digits are read as f64; a file with longer values is read
 exactly at its precision. See docs/own-integrator.md.";
@@ -45,9 +49,12 @@ exactly at its precision. See docs/own-integrator.md.";
 /// Options of `rsts check`.
 #[derive(Debug, Clone, ClapArgs)]
 pub struct Args {
-    /// The trajectory: .csv, .json, .npy or .mcap
+    /// The trajectory: .csv, .json, .npy or .mcap; `-` reads standard input (with --input-format)
     #[arg(value_name = "FILE")]
     pub file: PathBuf,
+    /// Format of standard input (FILE `-`); a file's format is its extension
+    #[arg(long, value_enum, value_name = "FORMAT")]
+    pub input_format: Option<InputFormat>,
     #[command(flatten)]
     pub fields: FieldArgs,
     /// Value m of the partial integral of N (with --h; without both: identified from the first row)
@@ -79,9 +86,49 @@ pub struct Args {
     /// Output format of the report
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
+    #[command(flatten)]
+    pub jobs: crate::jobs::JobsArgs,
 }
 
 /// The JSON of `rsts check`: the library's report and where the log went.
+/// Formats `rsts check -` reads from standard input.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum InputFormat {
+    Csv,
+    Json,
+    Npy,
+}
+
+/// The trajectory of FILE, or of standard input for `-`.
+fn read_input(args: &Args) -> anyhow::Result<rsts_external::RawTrajectory> {
+    use rsts_external::FileFormat;
+    if args.file.as_os_str() != "-" {
+        if args.input_format.is_some() {
+            bail!("--input-format: only for standard input (FILE -); a file's format is its extension");
+        }
+        check_file_size(&args.file)?;
+        return rsts_external::read_trajectory(&args.file).map_err(|e| anyhow!("{e}"));
+    }
+    let Some(format) = args.input_format else {
+        bail!("FILE -: give the format of standard input with --input-format csv, json or npy");
+    };
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(std::io::stdin().lock(), MAX_FILE_BYTES + 1),
+        &mut bytes,
+    )
+    .context("standard input: cannot read")?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        bail!("standard input: more than the {MAX_FILE_BYTES} bytes (2 GiB) a trajectory may have; check it in parts");
+    }
+    let format = match format {
+        InputFormat::Csv => FileFormat::Csv,
+        InputFormat::Json => FileFormat::Json,
+        InputFormat::Npy => FileFormat::Npy,
+    };
+    rsts_external::parse_trajectory(&bytes, format, "<stdin>").map_err(|e| anyhow!("{e}"))
+}
+
 #[derive(Serialize)]
 struct Document<'a> {
     #[serde(flatten)]
@@ -121,13 +168,25 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     let (a, b) = (args.fields.a, args.fields.b);
     rsts_dynamics::Fields::new(a, b).map_err(|e| anyhow!("--a/--b: {e}"))?;
+    let stdin = args.file.as_os_str() == "-";
     let name = args
         .file
         .file_name()
+        .filter(|_| !stdin)
         .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| args.file.display().to_string());
+        .unwrap_or_else(|| {
+            if stdin {
+                "<stdin>".to_string()
+            } else {
+                args.file.display().to_string()
+            }
+        });
     let mut request = CheckRequest {
-        file: args.file.display().to_string(),
+        file: if stdin {
+            "<stdin>".to_string()
+        } else {
+            args.file.display().to_string()
+        },
         name,
         a,
         b,
@@ -148,8 +207,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if let Some(path) = &args.mcap {
         rsts_io::check_writable(path).with_context(|| format!("--mcap {}", path.display()))?;
     }
-    check_file_size(&args.file)?;
-    let raw = rsts_external::read_trajectory(&args.file).map_err(|e| anyhow!("{e}"))?;
+    let raw = read_input(&args)?;
     request.digits = match args.digits {
         Some(d) => d,
         None if raw.is_high_precision() => raw.digits() as u32,
@@ -180,7 +238,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     };
     let stop = stop_on_ctrl_c();
     let mut observer = CliObserver::new(log, samples.times.len() as u64, stop);
-    let report = match start.run(&samples.times, &samples.states, &mut observer) {
+    let pool = args.jobs.pool()?;
+    let report = match pool.install(|| start.run(&samples.times, &samples.states, &mut observer)) {
         Ok(report) => report,
         Err(e) => {
             // A failed check discards its log: the temporary is removed, a previous file stays.
@@ -235,8 +294,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {
         eprintln!(
-            "MCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `target/release/rsts inspect {path}`.",
-            stats.samples, stats.messages
+            "MCAP log: {path} ({} samples, {} messages). Open it in Foxglove or Lichtblick (Open local file), or run `{} inspect {path}`.",
+            stats.samples,
+            stats.messages,
+            crate::invocation::invocation()
         );
     }
     if !report.report.complete {

@@ -371,6 +371,8 @@ fn nearest_on_n<T: Scalar>(
         if residual >= best.residual {
             break;
         }
+        // Less than halved: at the floor of the state's distance from N (see `nearest`).
+        let stalled = residual.clone() * a.lit(2.0) > best.residual;
         best = Nearest {
             m: trial_m,
             h: trial_h,
@@ -378,6 +380,9 @@ fn nearest_on_n<T: Scalar>(
             residual,
         };
         map = trial_map;
+        if stalled {
+            break;
+        }
     }
     best
 }

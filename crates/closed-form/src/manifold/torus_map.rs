@@ -114,10 +114,14 @@ impl<T: Real> TorusMap<T> {
             let step = d1.abs().max_of(d2.abs());
             psi = [psi[0].clone() + d1, psi[1].clone() + d2];
             let res = max_gap(&self.state_at(&psi), target);
+            // Less than halved: the residual is at its floor, the target's own distance from
+            // the torus (more steps only refine angles that distance already blurs, at a cost
+            // that grows with the digits).
+            let stalled = res.clone() * res.lit(2.0) > best.1;
             if res < best.1 {
                 best = (psi.clone(), res);
             }
-            if step <= eps.clone() * eps.lit(4.0) {
+            if step <= eps.clone() * eps.lit(4.0) || stalled {
                 break;
             }
         }

@@ -70,9 +70,18 @@ pub trait Real:
     }
     /// π at `bits` bits.
     fn pi(bits: u32) -> Self;
-    /// Machine epsilon of this precision, 2^(1-prec).
+    /// Machine epsilon of this precision, 2^(1-prec). Built from factors an f64 holds: beyond
+    /// 1074 bits 2^(1-prec) itself underflows f64 to 0, and an epsilon of 0 made every
+    /// convergence test fail, so identify at thousands of digits ran every loop to its limit.
     fn epsilon(&self) -> Self {
-        self.lit(2f64.powi(1 - self.prec() as i32))
+        let mut left = self.prec() as i32 - 1;
+        let mut e = self.one_like();
+        while left > 0 {
+            let k = left.min(1000);
+            e *= &self.lit(2f64.powi(-k));
+            left -= k;
+        }
+        e
     }
 
     fn sqrt(&self) -> Self;
@@ -272,6 +281,18 @@ mod tests {
         assert!(one.abs() < 1e-49);
         let y = <f64 as Real>::parse("0.1", 53).unwrap() * 10.0 - 1.0;
         assert!(y.abs() < 1e-15);
+    }
+
+    #[test]
+    fn epsilon_is_two_to_one_minus_prec_at_any_precision() {
+        for bits in [53, 200, 1074, 1100, 3000, 33_220] {
+            let one = Float::with_val(bits, 1);
+            let eps = Real::epsilon(&one);
+            assert!(eps > 0, "epsilon at {bits} bits is 0");
+            assert_eq!(eps, Float::with_val(bits, 1) >> (bits - 1), "{bits} bits");
+            // 1 + eps is the next number after 1, 1 + eps/2 rounds back to 1.
+            assert!(one.clone() + &eps > one, "{bits} bits");
+        }
     }
 
     #[test]
