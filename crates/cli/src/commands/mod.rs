@@ -4,6 +4,7 @@ pub mod bench;
 pub mod check;
 pub mod compare;
 pub mod diagram;
+pub mod events;
 pub mod explicit;
 pub mod identify;
 pub mod inspect;
