@@ -7,7 +7,7 @@ use rsts_closed_form::events::{exact_events, working_bits, Crossing, EventSpec, 
 use rsts_closed_form::{ExplicitMotion, TorusChoice};
 use rug::Float;
 
-/// (a, b, m, h, torus): cameras I+, V (m < 0) and II.
+/// (a, b, m, h, torus): cameras I+, V (m < 0) and I+ at a higher energy.
 const CASES: [(f64, f64, f64, f64, usize); 3] = [
     (1.0, 0.5, 0.3, -0.375, 0),
     (1.0, 0.5, -0.7092, 1.5643, 3),
@@ -113,7 +113,7 @@ fn roots_are_roots_and_none_is_missed_or_doubled() {
 
 #[test]
 fn a_near_tangent_crossing_is_two_events_and_its_neighbour_none() {
-    // beta2 over (0, 6] on camera II: the number of crossings jumps by two where the line
+    // beta2 over (0, 6] on camera I+ (h = 0.1): the number of crossings jumps by two where the line
     // (psi1, psi2) = (p, 0.4) + nu t is tangent to the zero curve of beta2 on the torus. Bisect
     // p down to adjacent f64 values.
     let case = CASES[2];
