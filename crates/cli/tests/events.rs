@@ -195,3 +195,109 @@ fn heyoka_mpfr_event_times_agree_to_40_digits() {
         assert!(worst < 1e-38, "{camera}: {worst:e}");
     }
 }
+
+/// `check --events`: a trajectory with the exact events less one is reported with exactly one
+/// missed event and the others' time errors; bad events files exit 2 naming the line.
+#[test]
+fn check_events_reports_one_missed_event_and_names_bad_lines() {
+    let dir = common::tmp("events-check");
+    let traj = dir.with_file_name("events-traj.csv");
+    let reference = rsts_command(
+        "reference",
+        &[
+            "--m",
+            "-0.7092",
+            "--h",
+            "1.5643",
+            "--torus",
+            "2",
+            "--t-end",
+            "12",
+            "--samples",
+            "241",
+            "--format",
+            "csv",
+        ],
+    );
+    assert!(reference.status.success());
+    std::fs::write(&traj, &reference.stdout).unwrap();
+    let exact = events_json(&[
+        "--m", "-0.7092", "--h", "1.5643", "--torus", "2", "--event", "gamma2", "--event",
+        "alpha1", "--t-end", "12",
+    ]);
+    let all = exact["events"].as_array().unwrap();
+    assert!(all.len() >= 4, "{exact}");
+    let mut csv = String::from("name,t\n");
+    for (i, e) in all.iter().enumerate() {
+        if i != 2 {
+            // Detected a little late: 1e-7.
+            let t = e["t"].as_f64().unwrap() + 1e-7;
+            csv.push_str(&format!("{},{t:?}\n", e["name"].as_str().unwrap()));
+        }
+    }
+    let events = dir.with_file_name("events-detected.csv");
+    std::fs::write(&events, &csv).unwrap();
+    let p = |x: &std::path::Path| x.to_str().unwrap().to_string();
+    let motion = ["--m", "-0.7092", "--h", "1.5643", "--torus", "2"];
+    let run = |extra: &[&str]| {
+        let mut args = vec![p(&traj)];
+        args.extend(motion.iter().map(|s| s.to_string()));
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        rsts_command("check", &refs)
+    };
+    let out = run(&[
+        "--events",
+        &p(&events),
+        "--event",
+        "alpha1",
+        "--format",
+        "json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let ev = &doc["events"];
+    assert_eq!(ev["exact"].as_u64().unwrap() as usize, all.len(), "{ev}");
+    assert_eq!(ev["missed"], 1);
+    assert_eq!(ev["spurious"], 0);
+    assert_eq!(ev["matched"].as_u64().unwrap() as usize, all.len() - 1);
+    let worst = ev["max_time_error"].as_f64().unwrap();
+    assert!((worst - 1e-7).abs() < 1e-12, "{worst:e}");
+    let missed: Vec<&Value> = ev["per_event"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["t_detected"].is_null())
+        .collect();
+    assert_eq!(missed.len(), 1);
+    assert_eq!(missed[0]["t_exact"], all[2]["t"]);
+    // CI: a missed event fails (exit 1).
+    let out = run(&["--events", &p(&events), "--max-event-error", "1e-3"]);
+    assert_eq!(out.status.code(), Some(1));
+    // Bad files: exit 2 naming the line.
+    for (text, needle) in [
+        (
+            "name,t\nomega1,0.5\nomega7,0.6\n",
+            "line 3: unknown event 'omega7'",
+        ),
+        (
+            "name,t\nomega1,0.5\nomega1,0.4\n",
+            "line 3: t = 0.4 is before",
+        ),
+        (
+            "{\"events\": [{\"name\": \"s1\", \"t\": 1}, {\"name\": \"s1\", \"t\": 0.5}]}",
+            "events[1]: t = 0.5",
+        ),
+    ] {
+        let bad = dir.with_file_name("events-bad.txt");
+        std::fs::write(&bad, text).unwrap();
+        let out = run(&["--events", &p(&bad)]);
+        let err = exit_2(&out, text);
+        assert!(err.contains(needle), "{err}");
+        assert!(out.stdout.is_empty());
+    }
+}

@@ -24,6 +24,7 @@ pub mod bench;
 mod case;
 pub mod check;
 mod compare;
+pub mod events;
 pub mod geometry;
 pub mod growth;
 pub mod identify;
