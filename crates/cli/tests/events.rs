@@ -301,3 +301,107 @@ fn check_events_reports_one_missed_event_and_names_bad_lines() {
         assert!(out.stdout.is_empty());
     }
 }
+
+/// The example RK4 adapter: beside the rsts binary (built by `cargo test --workspace`), or built
+/// now into its own target directory (as crates/cli/tests/external.rs does).
+fn example_rk4() -> std::path::PathBuf {
+    let beside =
+        std::path::PathBuf::from(env!("CARGO_BIN_EXE_rsts")).with_file_name("example-adapter-rk4");
+    if beside.exists() {
+        return beside;
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = root.join("target/adapter-build");
+    let status = std::process::Command::new(env!("CARGO"))
+        .args(["build", "--release", "--quiet", "-p", "example-adapter-rk4"])
+        .env("CARGO_TARGET_DIR", &dir)
+        .current_dir(&root)
+        .status()
+        .expect("run cargo");
+    assert!(status.success(), "cargo build -p example-adapter-rk4");
+    dir.join("release/example-adapter-rk4")
+}
+
+fn compare_events(args: &[&str]) -> Value {
+    let mut all = vec![
+        "--t-end",
+        "20",
+        "--samples",
+        "201",
+        "--event",
+        "omega1",
+        "--event",
+        "gamma2",
+        "--format",
+        "json",
+    ];
+    all.extend_from_slice(args);
+    let out = rsts_command("compare", &all);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice::<Value>(&out.stdout).unwrap()["events"].clone()
+}
+
+/// compare --event: a built-in method (events located in its samples by Hermite interpolation)
+/// finds every event; the example RK4 adapter answers events through the protocol, and with
+/// `--drop-event 3` exactly one is missed while the others keep their time errors.
+#[test]
+fn compare_event_for_built_ins_and_an_adapter_that_drops_one() {
+    let built_in = compare_events(&["--method", "dop853", "--rtol", "1e-10", "--atol", "1e-10"]);
+    let exact = built_in["exact"].as_u64().unwrap();
+    assert!(exact >= 6, "{built_in}");
+    assert_eq!(built_in["missed"], 0, "{built_in}");
+    assert_eq!(built_in["spurious"], 0);
+    // Hermite interpolation between samples 0.1 apart: errors of order h^4.
+    assert!(
+        built_in["max_time_error"].as_f64().unwrap() < 1e-4,
+        "{built_in}"
+    );
+    let rk4 = example_rk4();
+    let exec = format!("{}", rk4.display());
+    let full = compare_events(&["--exec", &exec, "--rtol", "1e-10", "--atol", "1e-10"]);
+    assert_eq!(full["exact"].as_u64().unwrap(), exact);
+    assert_eq!(full["missed"], 0, "{full}");
+    let worst = full["max_time_error"].as_f64().unwrap();
+    assert!(worst < 1e-8, "{full}");
+    let dropped = format!("{} --drop-event 3", rk4.display());
+    let one_less = compare_events(&["--exec", &dropped, "--rtol", "1e-10", "--atol", "1e-10"]);
+    assert_eq!(one_less["missed"], 1, "{one_less}");
+    assert_eq!(one_less["spurious"], 0);
+    assert_eq!(one_less["matched"].as_u64().unwrap(), exact - 1);
+    // The missed one is the fourth exact event; the others keep their errors.
+    let per: Vec<&Value> = one_less["per_event"].as_array().unwrap().iter().collect();
+    let missed: Vec<&&Value> = per.iter().filter(|p| p["t_detected"].is_null()).collect();
+    assert_eq!(missed.len(), 1);
+    let full_per = full["per_event"].as_array().unwrap();
+    assert_eq!(missed[0]["t_exact"], full_per[3]["t_exact"]);
+    // CI: --max-event-error fails on the missed event (exit 1), passes the full answer.
+    let base = [
+        "--t-end",
+        "20",
+        "--samples",
+        "201",
+        "--event",
+        "omega1",
+        "--event",
+        "gamma2",
+    ];
+    let tol = [
+        "--rtol",
+        "1e-10",
+        "--atol",
+        "1e-10",
+        "--max-event-error",
+        "1e-6",
+    ];
+    let run =
+        |cmd: &str| rsts_command("compare", &[&base[..], &tol[..], &["--exec", cmd]].concat());
+    assert_eq!(run(&exec).status.code(), Some(0));
+    assert_eq!(run(&dropped).status.code(), Some(1));
+    // The built-ins cannot locate s1, s2: refused naming the option.
+    let out = rsts_command("compare", &["--event", "s1"]);
+    assert!(exit_2(&out, "s1").contains("--event s1"));
+}

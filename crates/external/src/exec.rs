@@ -126,6 +126,11 @@ pub struct Exec {
     /// reference must exceed).
     pub digits: u32,
     pub timeout: Duration,
+    /// Events asked for in the request, as (name, direction) (docs/events.md); none: the
+    /// request has no `"events"`.
+    pub events: Vec<(String, String)>,
+    /// The `"events"` of the last answer as (name, t), when it had them.
+    pub answered_events: Option<Vec<(String, f64)>>,
 }
 
 impl Exec {
@@ -146,6 +151,8 @@ impl Exec {
             tolerances,
             digits: DEFAULT_DIGITS,
             timeout: Duration::from_secs_f64(DEFAULT_TIMEOUT_SECONDS),
+            events: Vec::new(),
+            answered_events: None,
         })
     }
 
@@ -202,7 +209,7 @@ impl Exec {
         let d = Some(self.digits as usize);
         let dec = |x: &Float| x.to_string_radix(10, d);
         let v3 = |v: &[Float; 3]| [dec(&v[0]), dec(&v[1]), dec(&v[2])];
-        json!({
+        let mut request = json!({
             "protocol": PROTOCOL,
             "a": dec(&problem.fields.a),
             "b": dec(&problem.fields.b),
@@ -215,7 +222,16 @@ impl Exec {
             "rtol": self.tolerances.rtol,
             "atol": self.tolerances.atol,
             "digits": self.digits,
-        })
+        });
+        if !self.events.is_empty() {
+            let list: Vec<Value> = self
+                .events
+                .iter()
+                .map(|(name, direction)| json!({"name": name, "direction": direction}))
+                .collect();
+            request["events"] = Value::Array(list);
+        }
+        request
     }
 
     fn fail(&self, what: impl std::fmt::Display, stderr: &[u8]) -> HarnessError {
@@ -328,6 +344,7 @@ impl Exec {
             return Err(self.fail("it wrote no answer on stdout", stderr));
         }
         let mut answered = None;
+        let mut answered_events = None;
         let (raw, stats) = if text.trim_start().starts_with('{') {
             let doc: Value =
                 serde_json::from_str(text).map_err(|e| garbage(format!("invalid JSON: {e}")))?;
@@ -339,6 +356,10 @@ impl Exec {
                 answered = Some(name.to_string());
             }
             let stats = parse_stats(doc.get("stats")).map_err(garbage)?;
+            answered_events = match doc.get("events") {
+                None => None,
+                Some(v) => Some(parse_events(v).map_err(garbage)?),
+            };
             (parse_json(&doc).map_err(garbage)?, stats)
         } else {
             (parse_csv(text).map_err(garbage)?, (None, None, None))
@@ -346,6 +367,7 @@ impl Exec {
         if answered.is_some() {
             self.answered_name = answered;
         }
+        self.answered_events = answered_events;
         if raw.len() != times.len() {
             return Err(self.fail(
                 format_args!(
@@ -380,6 +402,28 @@ impl Exec {
 }
 
 type AnswerStats = (Option<u64>, Option<u64>, Option<f64>);
+
+/// `events` of an answer: `[{"name", "t"}]`, t a number or a decimal string.
+fn parse_events(v: &Value) -> Result<Vec<(String, f64)>, String> {
+    let list = v.as_array().ok_or("\"events\" must be an array")?;
+    list.iter()
+        .enumerate()
+        .map(|(i, e)| {
+            let name = e.get("name").and_then(Value::as_str);
+            let t = match e.get("t") {
+                Some(Value::Number(n)) => n.as_f64(),
+                Some(Value::String(s)) => s.trim().parse().ok(),
+                _ => None,
+            };
+            match (name, t) {
+                (Some(n), Some(t)) if t.is_finite() => Ok((n.to_string(), t)),
+                _ => Err(format!(
+                    "events[{i}] needs a \"name\" string and a finite \"t\""
+                )),
+            }
+        })
+        .collect()
+}
 
 /// `stats` of an answer: every field optional, numbers or decimal strings.
 fn parse_stats(v: Option<&Value>) -> Result<AnswerStats, String> {

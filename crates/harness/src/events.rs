@@ -9,7 +9,55 @@ use rsts_closed_form::events::{
 use rsts_dynamics::{Fields, VectorField};
 use serde::Serialize;
 
+use crate::analysis::Observer;
+use crate::metrics::SampleRecord;
 use crate::HarnessError;
+
+/// An observer that keeps the integrated (t, ω, α, β) of every sample (for
+/// [`locate_by_interpolation`]) and hands each record on.
+pub struct StateCollector<'a> {
+    inner: &'a mut dyn Observer,
+    pub times: Vec<f64>,
+    pub states: Vec<[f64; 9]>,
+}
+
+impl<'a> StateCollector<'a> {
+    pub fn new(inner: &'a mut dyn Observer) -> Self {
+        Self {
+            inner,
+            times: Vec::new(),
+            states: Vec::new(),
+        }
+    }
+}
+
+impl Observer for StateCollector<'_> {
+    fn on_sample(&mut self, r: &SampleRecord) -> Result<(), String> {
+        let s = &r.integrated;
+        let (w, al, be) = (s.omega, s.q[0], s.q[1]);
+        self.times.push(r.t);
+        self.states
+            .push([w[0], w[1], w[2], al[0], al[1], al[2], be[0], be[1], be[2]]);
+        self.inner.on_sample(r)
+    }
+    fn should_stop(&self) -> bool {
+        self.inner.should_stop()
+    }
+}
+
+/// Detected events from an integrator's answer, as (name, t): unknown names are an error.
+pub fn detected_from_answer(list: &[(String, f64)]) -> Result<Vec<DetectedEvent>, String> {
+    let mut out: Vec<DetectedEvent> = list
+        .iter()
+        .map(|(n, t)| {
+            EventName::parse(n)
+                .map(|name| DetectedEvent { name, t: *t })
+                .ok_or_else(|| format!("the integrator answered an unknown event '{n}'"))
+        })
+        .collect::<Result<_, _>>()?;
+    out.sort_by(|p, q| p.t.total_cmp(&q.t));
+    Ok(out)
+}
 
 /// An event reported by an integrator.
 #[derive(Clone, Debug, PartialEq)]
