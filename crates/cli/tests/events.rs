@@ -405,3 +405,54 @@ fn compare_event_for_built_ins_and_an_adapter_that_drops_one() {
     let out = rsts_command("compare", &["--event", "s1"]);
     assert!(exit_2(&out, "s1").contains("--event s1"));
 }
+
+/// bench --event: every row carries the events' counts (built-in: located in an extra run's
+/// samples; adapter: answered); a row with a dropped event fails --max-event-error (exit 1).
+#[test]
+fn bench_event_columns_and_max_event_error() {
+    let rk4 = example_rk4();
+    let dropped = format!("{} --drop-event 0", rk4.display());
+    let base = [
+        "--methods",
+        "dop853",
+        "--tolerances",
+        "1e-8",
+        "--t-end",
+        "20",
+        "--samples",
+        "201",
+        "--repeats",
+        "1",
+        "--event",
+        "omega1",
+    ];
+    let out = rsts_command(
+        "bench",
+        &[&base[..], &["--exec", &dropped, "--format", "json"]].concat(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = doc["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 2);
+    let (ours, theirs) = (&rows[0]["events"], &rows[1]["events"]);
+    assert_eq!(ours["exact"], theirs["exact"]);
+    assert!(ours["exact"].as_u64().unwrap() >= 5, "{ours}");
+    assert_eq!(ours["missed"], 0, "{ours}");
+    assert_eq!(theirs["missed"], 1, "{theirs}");
+    assert!(theirs["max_time_error"].as_f64().unwrap() < 1e-6);
+    let table = rsts_command("bench", &[&base[..], &["--exec", &dropped]].concat());
+    assert!(String::from_utf8_lossy(&table.stdout).contains("max event error"));
+    let out = rsts_command(
+        "bench",
+        &[
+            &base[..],
+            &["--exec", &dropped, "--max-event-error", "1e-3"],
+        ]
+        .concat(),
+    );
+    assert_eq!(out.status.code(), Some(1));
+}

@@ -45,6 +45,32 @@ impl Observer for StateCollector<'_> {
     }
 }
 
+/// Match the events of `specs` an integrator located with the exact ones along `case` over its
+/// samples (0, t_last]: `answered` when it reported them (an adapter), else located in its
+/// samples by [`locate_by_interpolation`].
+pub fn events_of_run(
+    case: &crate::Case,
+    specs: &[EventSpec],
+    answered: Option<&[(String, f64)]>,
+    times: &[f64],
+    states: &[[f64; 9]],
+) -> Result<EventMatchReport, HarnessError> {
+    let detected = match answered {
+        Some(list) => detected_from_answer(list).map_err(HarnessError::Integrator)?,
+        None => locate_by_interpolation(case.a, case.b, times, states, specs),
+    };
+    let t_last = times.last().copied().unwrap_or(0.0);
+    let exact = exact_event_times(
+        (case.a, case.b, case.m, case.h),
+        case.torus,
+        (case.phase1, case.phase2),
+        specs,
+        0.0,
+        t_last,
+    )?;
+    Ok(match_events(&exact, &detected))
+}
+
 /// Detected events from an integrator's answer, as (name, t): unknown names are an error.
 pub fn detected_from_answer(list: &[(String, f64)]) -> Result<Vec<DetectedEvent>, String> {
     let mut out: Vec<DetectedEvent> = list
@@ -90,7 +116,30 @@ pub struct EventMatchReport {
     pub per_event: Vec<EventPair>,
 }
 
+/// The counts and time errors of an [`EventMatchReport`] without the per-event list (a bench
+/// row's `events`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, serde::Deserialize)]
+pub struct EventCounts {
+    pub exact: usize,
+    pub matched: usize,
+    pub missed: usize,
+    pub spurious: usize,
+    pub max_time_error: Option<f64>,
+    pub median_time_error: Option<f64>,
+}
+
 impl EventMatchReport {
+    pub fn counts(&self) -> EventCounts {
+        EventCounts {
+            exact: self.exact,
+            matched: self.matched,
+            missed: self.missed,
+            spurious: self.spurious,
+            max_time_error: self.max_time_error,
+            median_time_error: self.median_time_error,
+        }
+    }
+
     /// One line for a text report.
     pub fn summary(&self) -> String {
         let e = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.3e}"));

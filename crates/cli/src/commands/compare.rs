@@ -12,10 +12,7 @@ use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
-use rsts_harness::events::{
-    detected_from_answer, exact_event_times, locate_by_interpolation, match_events,
-    EventMatchReport, StateCollector,
-};
+use rsts_harness::events::{events_of_run, EventMatchReport, StateCollector};
 use rsts_harness::{
     compare_integrator, preflight, Case, CompareOptions, Integrator, Observer, Report, SampleRecord,
 };
@@ -355,23 +352,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         None
     } else {
         let answered = external.as_ref().and_then(|e| e.answered_events.clone());
-        let detected = match answered {
-            Some(list) => {
-                detected_from_answer(&list).map_err(|e| anyhow::anyhow!("--exec: {e}"))?
-            }
-            None => locate_by_interpolation(case.a, case.b, &times, &states, &specs),
-        };
-        let t_last = times.last().copied().unwrap_or(0.0);
-        let exact = exact_event_times(
-            (case.a, case.b, case.m, case.h),
-            case.torus,
-            (case.phase1, case.phase2),
-            &specs,
-            0.0,
-            t_last,
+        Some(
+            events_of_run(&case, &specs, answered.as_deref(), &times, &states)
+                .map_err(case_error)?,
         )
-        .map_err(case_error)?;
-        Some(match_events(&exact, &detected))
     };
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     let doc = Document {
