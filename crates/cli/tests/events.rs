@@ -456,3 +456,65 @@ fn bench_event_columns_and_max_event_error() {
     );
     assert_eq!(out.status.code(), Some(1));
 }
+
+/// compare --event --mcap: `/events` (foxglove.Log) and `/events/markers` carry one message per
+/// exact event, the dropped one marked as not detected.
+#[test]
+fn compare_log_has_the_events_channels() {
+    let path = common::tmp("events.mcap");
+    let dropped = format!("{} --drop-event 3", example_rk4().display());
+    let out = rsts_command(
+        "compare",
+        &[
+            "--exec",
+            &dropped,
+            "--rtol",
+            "1e-8",
+            "--atol",
+            "1e-8",
+            "--t-end",
+            "20",
+            "--samples",
+            "201",
+            "--event",
+            "omega1",
+            "--event",
+            "gamma2",
+            "--mcap",
+            path.to_str().unwrap(),
+            "--format",
+            "json",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let exact = report["events"]["exact"].as_u64().unwrap() as usize;
+    let read = |channel: &str| {
+        let o = rsts_command(
+            "inspect",
+            &[
+                path.to_str().unwrap(),
+                "--channel",
+                channel,
+                "--format",
+                "json",
+            ],
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<Value>(&o.stdout).unwrap()
+    };
+    let markers = read("/events/markers");
+    let rows = markers["messages"]
+        .as_array()
+        .or_else(|| markers.as_array())
+        .expect("messages");
+    assert_eq!(rows.len(), exact, "{markers}");
+    let text = markers.to_string();
+    assert_eq!(text.matches("\"detected\":0.0").count(), 1, "{text}");
+    let logs = read("/events").to_string();
+    assert_eq!(logs.matches("MISSED").count(), 1, "{logs}");
+}

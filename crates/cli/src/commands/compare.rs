@@ -346,8 +346,6 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         // A failed run discards its log: the temporary is removed, a previous file stays.
         Err(e) => return Err(case_error(e)),
     };
-    let log_stats = observer.finish()?;
-    check_finite_report(&report)?;
     let events = if specs.is_empty() {
         None
     } else {
@@ -357,6 +355,22 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 .map_err(case_error)?,
         )
     };
+    if let (Some(ev), Some(log)) = (&events, observer.log.as_mut()) {
+        let marks: Vec<rsts_mcap::EventMark> = ev
+            .per_event
+            .iter()
+            .map(|p| rsts_mcap::EventMark {
+                name: p.name.clone(),
+                t_exact: p.t_exact,
+                t_detected: p.t_detected,
+                time_error: p.time_error,
+            })
+            .collect();
+        log.log_events(&marks)
+            .map_err(|e| anyhow::anyhow!("--mcap: {}", rsts_io::error_text(&e)))?;
+    }
+    let log_stats = observer.finish()?;
+    check_finite_report(&report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     let doc = Document {
         report: &report,
