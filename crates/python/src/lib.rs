@@ -19,6 +19,7 @@ mod arrays;
 mod case;
 mod check;
 mod compare;
+mod events;
 mod identify;
 
 /// `ValueError` with the message `names: message` (the CLI's message, naming the Python
@@ -110,5 +111,6 @@ fn _rsts(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(check::check, m)?)?;
+    m.add_function(wrap_pyfunction!(events::events, m)?)?;
     Ok(())
 }

@@ -11,11 +11,12 @@ The Python face of the ``rsts`` command-line tool, built from the same Rust crat
 - ``rsts.compare(integrator, case=None, ...)``: a built-in method or your Python integrator
   against the exact motion (``rsts compare``);
 - ``rsts.check(times, states, a, b, ...)``: a trajectory you computed against the exact motion
-  (``rsts check``).
+  (``rsts check``);
+- ``rsts.events(names, m, h, ...)``: exact event times along a motion (``rsts events``).
 
 Reports are the CLI's ``--format json`` documents, as dicts. See docs/python.md.
 """
 
-from ._rsts import METHODS, Case, __version__, check, compare, identify
+from ._rsts import METHODS, Case, __version__, check, compare, events, identify
 
-__all__ = ["Case", "METHODS", "check", "compare", "identify", "__version__"]
+__all__ = ["Case", "METHODS", "check", "compare", "events", "identify", "__version__"]
