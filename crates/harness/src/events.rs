@@ -103,9 +103,17 @@ pub struct EventPair {
     pub time_error: Option<f64>,
 }
 
-/// The `"events"` part of a report.
+/// The `"events"` part of a report: the counts, then the per-event list.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct EventMatchReport {
+    #[serde(flatten)]
+    pub counts: EventCounts,
+    pub per_event: Vec<EventPair>,
+}
+
+/// The counts and time errors of an [`EventMatchReport`] (alone: a bench row's `events`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, serde::Deserialize)]
+pub struct EventCounts {
     pub exact: usize,
     pub matched: usize,
     pub missed: usize,
@@ -113,44 +121,38 @@ pub struct EventMatchReport {
     /// Largest and median |t_detected − t_exact| over the matched events (null when none).
     pub max_time_error: Option<f64>,
     pub median_time_error: Option<f64>,
-    pub per_event: Vec<EventPair>,
 }
 
-/// The counts and time errors of an [`EventMatchReport`] without the per-event list (a bench
-/// row's `events`).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, serde::Deserialize)]
-pub struct EventCounts {
-    pub exact: usize,
-    pub matched: usize,
-    pub missed: usize,
-    pub spurious: usize,
-    pub max_time_error: Option<f64>,
-    pub median_time_error: Option<f64>,
+impl EventCounts {
+    /// Why a run fails `--max-event-error limit` (a missed event or a larger time error).
+    pub fn failure(&self, limit: f64) -> Option<String> {
+        let worst = self.max_time_error.unwrap_or(0.0);
+        (self.missed > 0 || worst > limit).then(|| {
+            format!(
+                "{} missed event(s), largest time error {worst:.3e} (--max-event-error {limit:e})",
+                self.missed
+            )
+        })
+    }
 }
 
 impl EventMatchReport {
     pub fn counts(&self) -> EventCounts {
-        EventCounts {
-            exact: self.exact,
-            matched: self.matched,
-            missed: self.missed,
-            spurious: self.spurious,
-            max_time_error: self.max_time_error,
-            median_time_error: self.median_time_error,
-        }
+        self.counts
     }
 
     /// One line for a text report.
     pub fn summary(&self) -> String {
         let e = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.3e}"));
+        let c = &self.counts;
         format!(
             "{} exact, {} matched, {} missed, {} spurious; time error max {}, median {}",
-            self.exact,
-            self.matched,
-            self.missed,
-            self.spurious,
-            e(self.max_time_error),
-            e(self.median_time_error)
+            c.exact,
+            c.matched,
+            c.missed,
+            c.spurious,
+            e(c.max_time_error),
+            e(c.median_time_error)
         )
     }
 }
@@ -229,12 +231,14 @@ pub fn match_events(exact: &[DetectedEvent], detected: &[DetectedEvent]) -> Even
         }
     });
     EventMatchReport {
-        exact: exact.len(),
-        matched: errors.len(),
-        missed: exact.len() - errors.len(),
-        spurious: spurious.len(),
-        max_time_error: errors.last().copied(),
-        median_time_error: median,
+        counts: EventCounts {
+            exact: exact.len(),
+            matched: errors.len(),
+            missed: exact.len() - errors.len(),
+            spurious: spurious.len(),
+            max_time_error: errors.last().copied(),
+            median_time_error: median,
+        },
         per_event,
     }
 }
@@ -466,13 +470,17 @@ mod tests {
             ev("omega1", 9.0),
         ];
         let r = match_events(&exact, &found);
+        let c = r.counts;
         assert_eq!(
-            (r.exact, r.matched, r.missed, r.spurious),
+            (c.exact, c.matched, c.missed, c.spurious),
             (4, 3, 1, 1),
             "{r:?}"
         );
-        assert!((r.max_time_error.unwrap() - 4e-9).abs() < 1e-15);
-        assert!((r.median_time_error.unwrap() - 2e-9).abs() < 1e-15);
+        assert!((c.max_time_error.unwrap() - 4e-9).abs() < 1e-15);
+        assert!((c.median_time_error.unwrap() - 2e-9).abs() < 1e-15);
+        assert!(c.failure(1e-3).is_some() && c.failure(1.0).is_some());
+        let all = match_events(&exact, &exact).counts;
+        assert_eq!(all.failure(0.0), None);
         let missed: Vec<_> = r
             .per_event
             .iter()
@@ -481,7 +489,7 @@ mod tests {
         assert_eq!(missed.len(), 1);
         assert_eq!(missed[0].t_exact, Some(2.0));
         // Two detections of one exact event: the nearer is matched, the other is spurious.
-        let r = match_events(&exact[..1], &[ev("omega1", 1.1), ev("omega1", 1.01)]);
+        let r = match_events(&exact[..1], &[ev("omega1", 1.1), ev("omega1", 1.01)]).counts;
         assert_eq!((r.matched, r.spurious), (1, 1));
         assert!((r.max_time_error.unwrap() - 0.01).abs() < 1e-12);
     }

@@ -393,16 +393,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     if let Some(limit) = args.max_event_error {
         for l in &rows {
-            if let Some(ev) = &l.row.events {
-                let worst = ev.max_time_error.unwrap_or(0.0);
-                if ev.missed > 0 || worst > limit {
-                    out.flush()?;
-                    return Err(crate::commands::validate::Failed(format!(
-                        "{} at tolerance {:e}: {} missed event(s), largest time error {worst:.3e} (--max-event-error {limit:e})",
-                        l.label, l.row.tolerance, ev.missed
-                    ))
-                    .into());
-                }
+            if let Some(why) = l.row.events.and_then(|ev| ev.failure(limit)) {
+                out.flush()?;
+                return Err(crate::commands::validate::Failed(format!(
+                    "{} at tolerance {:e}: {why}",
+                    l.label, l.row.tolerance
+                ))
+                .into());
             }
         }
     }

@@ -301,17 +301,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         ))
         .into());
     }
-    if let (Some(limit), Some(ev)) = (args.max_event_error, &events) {
-        let worst = ev.max_time_error.unwrap_or(0.0);
-        if ev.missed > 0 || worst > limit {
-            out.flush()?;
-            return Err(Failed(format!(
-                "{}: {} missed event(s), largest time error {worst:.3e} (--max-event-error {limit:e})",
-                args.file.display(),
-                ev.missed
-            ))
-            .into());
-        }
+    if let Some(why) = events
+        .as_ref()
+        .zip(args.max_event_error)
+        .and_then(|(ev, limit)| ev.counts.failure(limit))
+    {
+        out.flush()?;
+        return Err(Failed(format!("{}: {why}", args.file.display())).into());
     }
     if let Some(limit) = args.max_error {
         let e = report.report.max_state_error;

@@ -409,16 +409,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         ))
         .into());
     }
-    if let (Some(limit), Some(ev)) = (args.max_event_error, &events) {
-        let worst = ev.max_time_error.unwrap_or(0.0);
-        if ev.missed > 0 || worst > limit {
-            out.flush()?;
-            return Err(crate::commands::validate::Failed(format!(
-                "{}: {} missed event(s), largest time error {worst:.3e} (--max-event-error {limit:e})",
-                report.method, ev.missed
-            ))
-            .into());
-        }
+    if let Some(why) = events
+        .as_ref()
+        .zip(args.max_event_error)
+        .and_then(|(ev, limit)| ev.counts.failure(limit))
+    {
+        out.flush()?;
+        return Err(crate::commands::validate::Failed(format!("{}: {why}", report.method)).into());
     }
     Ok(())
 }
