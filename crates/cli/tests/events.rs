@@ -43,9 +43,12 @@ fn json_csv_and_table_list_the_same_events_in_time_order() {
     let csv = rsts_command("events", &[&args[..], &["--format", "csv"]].concat());
     let text = String::from_utf8(csv.stdout).unwrap();
     let mut lines = text.lines();
-    assert!(lines.next().unwrap().starts_with("name,t,direction,omega1"));
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("t,omega1,omega2,omega3,alpha1"));
     let csv_times: Vec<f64> = lines
-        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
         .collect();
     assert_eq!(csv_times, times);
     let table = rsts_command("events", &args);

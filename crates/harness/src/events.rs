@@ -369,7 +369,8 @@ pub fn locate_by_interpolation(
     out
 }
 
-/// Detected events from a file's text: CSV with the header `name,t` or JSON `{"events":
+/// Detected events from a file's text: CSV with the columns `name` and `t` (any order, others
+/// ignored) or JSON `{"events":
 /// [{"name", "t"}]}`. Errors name the line (CSV) or the entry (JSON): unknown names, times that
 /// are not finite numbers or not in increasing order.
 pub fn parse_detected(text: &str) -> Result<Vec<DetectedEvent>, String> {
@@ -423,16 +424,25 @@ pub fn parse_detected(text: &str) -> Result<Vec<DetectedEvent>, String> {
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty());
-    match lines.next() {
-        Some((_, header)) if header.replace(' ', "").starts_with("name,t") => {}
-        Some((i, _)) => return Err(format!("line {}: expected the header 'name,t'", i + 1)),
-        None => return Err("empty file: expected the header 'name,t'".into()),
-    }
+    // The columns `name` and `t`, in any order (other columns are ignored: the CSV of
+    // `rsts events` is read as it is).
+    let missing = "expected a header with the columns name and t";
+    let (ni, ti) = match lines.next() {
+        Some((i, header)) => {
+            let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+            let at = |c: &str| cols.iter().position(|x| *x == c);
+            match (at("name"), at("t")) {
+                (Some(n), Some(t)) => (n, t),
+                _ => return Err(format!("line {}: {missing}", i + 1)),
+            }
+        }
+        None => return Err(format!("empty file: {missing}")),
+    };
     for (i, line) in lines {
         let where_ = format!("line {}", i + 1);
-        let mut cols = line.split(',');
-        let (Some(name), Some(t)) = (cols.next(), cols.next()) else {
-            return Err(format!("{where_}: expected 'name,t'"));
+        let cols: Vec<&str> = line.split(',').collect();
+        let (Some(name), Some(t)) = (cols.get(ni), cols.get(ti)) else {
+            return Err(format!("{where_}: expected the columns name and t"));
         };
         let t: f64 = t
             .trim()
@@ -498,6 +508,9 @@ mod tests {
     fn files_with_unknown_names_or_unsorted_times_name_the_line() {
         let ok = parse_detected("name,t\nomega1,0.5\n\ngamma3,0.7\n").unwrap();
         assert_eq!(ok, vec![ev("omega1", 0.5), ev("gamma3", 0.7)]);
+        // The CSV of `rsts events`: t first, name later, other columns ignored.
+        let same = parse_detected("t,omega1,name,direction\n0.5,0,omega1,up\n0.7,1,gamma3,down\n");
+        assert_eq!(same.unwrap(), ok);
         let e = parse_detected("name,t\nomega1,0.5\nomega9,0.7\n").unwrap_err();
         assert!(e.starts_with("line 3: unknown event 'omega9'"), "{e}");
         let e = parse_detected("name,t\nomega1,0.5\nomega1,0.2\n").unwrap_err();

@@ -73,7 +73,7 @@ pub struct Args {
     /// Exit with status 1 when the max state error exceeds E
     #[arg(long, value_name = "E", value_parser = finite_f64)]
     pub max_error: Option<f64>,
-    /// Events the integrator detected: CSV `name,t` or JSON {"events": [{"name", "t"}]}, matched
+    /// Events the integrator detected: CSV with columns name and t, or JSON {"events": [{"name", "t"}]}, matched
     /// with the exact events of the same names in (t_first, t_last] of the trajectory
     #[arg(long, value_name = "EVENTS")]
     pub events: Option<PathBuf>,

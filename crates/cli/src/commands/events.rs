@@ -95,12 +95,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         camera: String::new(),
     };
     let report = events_report(case, &specs).map_err(crate::args::case_error)?;
-    let mut header = vec!["name", "t", "direction"];
+    // The state columns after t, as in every state CSV of rsts; then the event's name and
+    // direction (`check --events` reads this file as it is).
     let names: Vec<String> = ["omega", "alpha", "beta"]
         .iter()
         .flat_map(|n| (1..=3).map(move |i| format!("{n}{i}")))
         .collect();
+    let mut header = vec!["t"];
     header.extend(names.iter().map(String::as_str));
+    header.extend(["name", "direction"]);
     let cell = |x: &Number, table: bool| match x {
         Number::F64(v) => Cell::Num(*v),
         Number::Decimal(_) if table => Cell::Num(x.to_f64()),
@@ -108,18 +111,16 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     };
     let rows = |table: bool| {
         report.events.iter().map(move |e| {
-            let mut row = vec![
-                Cell::Text(e.name.clone()),
-                match &e.t {
-                    // The time in full, also in the table.
-                    Number::F64(v) => Cell::Text(format!("{v:?}")),
-                    Number::Decimal(s) => Cell::Text(s.clone()),
-                },
-                Cell::Text(e.direction.as_str().to_string()),
-            ];
+            let mut row = vec![match &e.t {
+                // The time in full, also in the table.
+                Number::F64(v) => Cell::Text(format!("{v:?}")),
+                Number::Decimal(s) => Cell::Text(s.clone()),
+            }];
             for v in [&e.state.omega, &e.state.alpha, &e.state.beta] {
                 row.extend(v.iter().map(|x| cell(x, table)));
             }
+            row.push(Cell::Text(e.name.clone()));
+            row.push(Cell::Text(e.direction.as_str().to_string()));
             row
         })
     };
