@@ -9,6 +9,12 @@ Argument: the scalar, `f64` (default), `f64-ha` (f64 with high_accuracy: compens
 of the state), `real128` (quadruple precision) or `mpfr` (at the request's `digits`). Install
 heyoka with scripts/install_adapters.sh heyoka.
 
+A fixed step (`"step"` in the request, `rsts convergence`): every interval between two requested
+times is cut into ceil(dt/h) equal steps, each taken by `ta.step(max_delta_t)`; a step that
+heyoka shortens below max_delta_t (its own step-size rule asks for less: h is beyond the radius
+of convergence at this tolerance) is an error, never a silent change of step. The order is
+heyoka's for the tolerance: ceil(-ln(tol)/2) + 1, order 13 at tol 1e-10.
+
 The integrator is compiled once (not timed) and `propagate_grid` through the requested times is
 timed alone: that is the `integration_seconds` of the answer. rhs_evals counts one evaluation
 per Taylor order per step (heyoka's convention; rsts' Taylor methods count one more per step).
@@ -107,10 +113,13 @@ def main():
         opts["nt_events"] = events
     ta = hy.taylor_adaptive(equations(), state, **opts)
     start = time.perf_counter()
-    outcome, _, _, steps, _, states = ta.propagate_grid(times)
+    if req.get("step") is not None:
+        steps, states = fixed_steps(ta, times, float(req["step"]), num)
+    else:
+        outcome, _, _, steps, _, states = ta.propagate_grid(times)
+        if outcome != hy.taylor_outcome.time_limit:
+            sys.exit(f"heyoka_adapter.py: heyoka stopped with {outcome}")
     seconds = time.perf_counter() - start
-    if outcome != hy.taylor_outcome.time_limit:
-        sys.exit(f"heyoka_adapter.py: heyoka stopped with {outcome}")
     # Numbers keep all their digits: f64 as JSON numbers, real128 and MPFR as decimal strings.
     out = (lambda x: float(x)) if dtype is np.float64 else str
     samples = [
@@ -129,6 +138,24 @@ def main():
          "stats": {"steps": int(steps), "rhs_evals": int(steps) * int(ta.order), "integration_seconds": seconds}},
         sys.stdout,
     )
+
+
+def fixed_steps(ta, times, step, num):
+    """Steps of exactly dt/ceil(dt/step) through `times` (see the module doc)."""
+    states, steps = [np.array(ta.state)], 0
+    for t0, t1 in zip(times[:-1], times[1:]):
+        n = max(1, math.ceil(float(t1 - t0) / step))
+        h = (t1 - t0) / n
+        for k in range(n):
+            # The last step ends exactly at t1.
+            dt = h if k < n - 1 else t1 - ta.time
+            outcome, taken = ta.step(dt)
+            if outcome != hy.taylor_outcome.time_limit:
+                sys.exit(f"heyoka_adapter.py: heyoka took a step of {float(taken)} < {float(dt)} at "
+                         f"t = {float(ta.time)}: the fixed step is too large for its order")
+            steps += 1
+        states.append(np.array(ta.state))
+    return steps, states
 
 
 if __name__ == "__main__":

@@ -5,9 +5,18 @@
 
 Argument: the method of solve_ivp, RK45 (default), DOP853, Radau or LSODA. Install scipy with
 scripts/install_adapters.sh scipy.
+
+A fixed step (`"step"` in the request, `rsts convergence`): RK45 and DOP853 take every step of
+length h with their step-size control off -- first_step = max_step = h (h shortened so that each
+interval between two requested times is a whole number of steps) and atol = 1e300, so every
+step is accepted and the next step is capped at h; each interval is its own solve_ivp call and
+its sample is the end of its last step (not the dense output, whose order is lower). Radau
+(implicit, its Newton iterations depend on the tolerance) and LSODA (it switches methods and
+orders) have no honest fixed-step mode: they refuse.
 """
 
 import json
+import math
 import sys
 import time
 
@@ -15,6 +24,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 METHODS = ("RK45", "DOP853", "Radau", "LSODA")
+FIXED_STEP = ("RK45", "DOP853")
 
 # Event functions of `rsts events` that are functions of the state (docs/events.md).
 STATE_EVENTS = {name: k for k, name in enumerate(
@@ -63,9 +73,16 @@ def main():
 
     funcs, names = event_functions(req.get("events", []))
     found = []
+    step = req.get("step")
+    if step is not None and method not in FIXED_STEP:
+        sys.exit(f"scipy_adapter.py: {method} cannot take a fixed step (asked: step = {step}); "
+                 f"use {' or '.join(FIXED_STEP)}")
     start = time.perf_counter()
+    steps = None
     if len(times) == 1:  # no time passes
         ts, ys, nfev = times, y0[:, None], 0
+    elif step is not None:
+        ts, ys, nfev, steps = fixed_steps(rhs, times, y0, method, float(step))
     else:
         sol = solve_ivp(rhs, (times[0], times[-1]), y0, method=method, t_eval=times,
                         rtol=req["rtol"], atol=req["atol"], events=funcs or None)
@@ -79,11 +96,36 @@ def main():
     samples = [{"t": float(t), "omega": list(y[0:3]), "alpha": list(y[3:6]), "beta": list(y[6:9])}
                for t, y in zip(ts, ys.T)]
     # solve_ivp does not count steps when it samples at t_eval: only evaluations are reported.
-    answer = {"name": f"scipy-{method}", "samples": samples,
-              "stats": {"rhs_evals": int(nfev), "integration_seconds": seconds}}
-    if "events" in req:
+    stats = {"rhs_evals": int(nfev), "integration_seconds": seconds}
+    if steps is not None:
+        stats["steps"] = int(steps)
+    answer = {"name": f"scipy-{method}", "samples": samples, "stats": stats}
+    # At a fixed step solve_ivp's events are not used: no "events" (rsts then locates them in
+    # the samples).
+    if "events" in req and step is None:
         answer["events"] = [{"name": n, "t": t} for t, n in found]
     json.dump(answer, sys.stdout)
+
+
+def fixed_steps(rhs, times, y0, method, step):
+    """Every interval in ceil(dt/step) equal steps, the step control off (see the module doc)."""
+    ys, nfev, steps = [y0], 0, 0
+    y = y0
+    for t0, t1 in zip(times[:-1], times[1:]):
+        n = max(1, math.ceil((t1 - t0) / step))
+        h = (t1 - t0) / n
+        sol = solve_ivp(rhs, (t0, t1), y, method=method, first_step=h, max_step=h,
+                        rtol=1e-3, atol=1e300)
+        if not sol.success:
+            sys.exit(f"scipy_adapter.py: solve_ivp failed: {sol.message}")
+        # n steps, one more when the rounding of t leaves a sliver before t1.
+        if not n <= len(sol.t) - 1 <= n + 1:
+            sys.exit(f"scipy_adapter.py: {len(sol.t) - 1} steps over [{t0}, {t1}], not {n}")
+        y = sol.y[:, -1]
+        ys.append(y)
+        nfev += sol.nfev
+        steps += len(sol.t) - 1
+    return times, np.array(ys).T, nfev, steps
 
 
 if __name__ == "__main__":

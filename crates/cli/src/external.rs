@@ -16,16 +16,12 @@ pub struct TimeoutArgs {
     pub exec_timeout: f64,
 }
 
-/// A positive, finite number of seconds (checked with or without --exec).
+/// A positive, finite number of seconds (checked with or without --exec, by the rule of every
+/// timeout: `rsts_external::check_timeout`).
 fn seconds(s: &str) -> Result<f64, String> {
     let x = finite_f64(s)?;
-    if x > 0.0 && x <= 1e9 {
-        Ok(x)
-    } else {
-        Err(format!(
-            "must be a positive number of seconds (at most 1e9), got {x}"
-        ))
-    }
+    rsts_external::check_timeout(x)?;
+    Ok(x)
 }
 
 /// An external integrator from a command line, with the settings of a request.

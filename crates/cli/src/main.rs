@@ -10,6 +10,7 @@ mod commands;
 mod external;
 mod interrupt;
 mod invocation;
+mod jobs;
 mod output;
 
 use std::io::{self, Write};
@@ -18,8 +19,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use commands::{
-    bench, check, compare, diagram, events, explicit, identify, inspect, integrate, reference,
-    surfaces, table1, table2, validate,
+    bench, check, compare, convergence, diagram, events, explicit, identify, inspect, integrate,
+    reference, surfaces, table1, table2, validate,
 };
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
@@ -82,6 +83,9 @@ enum Command {
     /// Work-precision benchmark against the closed form: error, time, steps per method and tolerance.
     #[command(after_help = bench::EXAMPLES)]
     Bench(bench::Args),
+    /// Observed order of integrators at fixed steps: error against step, least-squares order over the asymptotic window.
+    #[command(after_help = convergence::EXAMPLES)]
+    Convergence(convergence::Args),
     /// Run a validation suite (every camera, the hard cases) in parallel: report, plots, baseline, shards.
     #[command(after_help = validate::EXAMPLES)]
     Validate(validate::Args),
@@ -109,6 +113,7 @@ impl Command {
             Command::Reference(args) => reference::run(args, out),
             Command::Inspect(args) => inspect::run(args, out),
             Command::Bench(args) => bench::run(args, out),
+            Command::Convergence(args) => convergence::run(args, out),
             Command::Validate(args) => validate::run(args, out),
             Command::Surfaces(args) => surfaces::run(args, out),
             Command::Table1(args) => table1::run(args, out),
@@ -126,6 +131,28 @@ fn is_broken_pipe(err: &anyhow::Error) -> bool {
     })
 }
 
+/// Standard output whose errors say so ("writing stdout: No space left on device").
+struct Stdout<W: Write>(W);
+
+impl<W: Write> Stdout<W> {
+    fn name(e: io::Error) -> io::Error {
+        if e.kind() == io::ErrorKind::BrokenPipe {
+            e
+        } else {
+            io::Error::new(e.kind(), format!("writing stdout: {e}"))
+        }
+    }
+}
+
+impl<W: Write> Write for Stdout<W> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.0.write(buf).map_err(Self::name)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.0.flush().map_err(Self::name)
+    }
+}
+
 fn main() -> ExitCode {
     interrupt::install();
     let cli = match Cli::try_parse() {
@@ -134,7 +161,7 @@ fn main() -> ExitCode {
         Err(e) => e.exit(),
     };
     let stdout = io::stdout();
-    let mut out = io::BufWriter::new(stdout.lock());
+    let mut out = Stdout(io::BufWriter::new(stdout.lock()));
     let result = cli
         .command
         .run(&mut out)

@@ -63,9 +63,16 @@ fn json_has_one_row_per_method_and_tolerance_and_dop853_errors_fall() {
             [
                 "integration_seconds",
                 "max_error",
+                "mescd",
+                "mescd_min",
                 "method",
                 "rhs_evals",
+                "scd",
+                "scd_min",
                 "steps",
+                "time_max",
+                "time_median",
+                "time_min",
                 "tolerance"
             ]
         );
@@ -165,6 +172,27 @@ fn unreachable_tolerances_are_skipped_with_a_note() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("round-off"));
 }
 
+/// Issue 18 item 9: dop853 refused 1e-16 (below f64's 1.1e-16) when its config was built,
+/// before bench could skip it: the whole bench exited 2.
+#[test]
+fn a_tolerance_below_dop853_round_off_is_skipped_not_refused() {
+    let out = bench(&[
+        "--methods",
+        "taylor-f64,dop853",
+        "--tolerances",
+        "1e-12,1e-16",
+        "--format",
+        "json",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("skipping dop853 at tolerance 1e-16"), "{err}");
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(rows_of(&doc, "taylor-f64").len(), 2);
+    assert_eq!(rows_of(&doc, "dop853").len(), 1);
+    assert_eq!(rows_of(&doc, "dop853")[0]["tolerance"], 1e-12);
+}
+
 #[test]
 fn taylor_mp_digits_default_to_the_smallest_tolerance_plus_ten() {
     let doc = bench_json(&["--methods", "taylor-mp", "--tolerances", "1e-20,1e-25"]);
@@ -213,7 +241,7 @@ fn csv_rows_carry_the_json_errors_at_full_precision() {
     // The CSV columns are the JSON row's fields (docs/output.md).
     assert_eq!(
         lines[0],
-        "method,tolerance,max_error,integration_seconds,steps,rhs_evals"
+        "method,tolerance,max_error,scd,mescd,scd_min,mescd_min,integration_seconds,time_min,time_median,time_max,steps,rhs_evals"
     );
     assert_eq!(lines.len(), 5);
     for (line, row) in lines[1..].iter().zip(rows(&doc)) {
@@ -227,6 +255,13 @@ fn csv_rows_carry_the_json_errors_at_full_precision() {
             f[2].parse::<f64>().unwrap(),
             row["max_error"].as_f64().unwrap()
         );
-        assert_eq!(f[4].parse::<u64>().unwrap(), row["steps"].as_u64().unwrap());
+        assert_eq!(
+            f[5].parse::<f64>().unwrap(),
+            row["scd_min"].as_f64().unwrap()
+        );
+        assert_eq!(
+            f[11].parse::<u64>().unwrap(),
+            row["steps"].as_u64().unwrap()
+        );
     }
 }

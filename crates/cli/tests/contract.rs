@@ -135,6 +135,17 @@ fn base(command: &str) -> Option<Vec<Vec<String>>> {
             "--beta=0.1716166194,-0.3322951766,0.9274306721",
         ])],
         "table2" => vec![v(&["table2"])],
+        "convergence" => vec![v(&[
+            "convergence",
+            "--methods",
+            "rk4",
+            "--step",
+            "0.1",
+            "--halvings",
+            "3",
+            "--t-end",
+            "2",
+        ])],
         "validate" | "surfaces" | "help" => return None,
         other => panic!(
             "subcommand `{other}` has no entry in tests/contract.rs: add its cheap valid \

@@ -17,6 +17,7 @@ pub mod formulas;
 pub mod manifold;
 pub mod motion;
 pub mod roots;
+pub mod rounded;
 pub mod scalar;
 pub mod separated;
 

@@ -157,11 +157,18 @@ impl<T: Scalar> ExplicitMotion<T> {
 
     /// The parameters u₁, u₂ of the elliptic functions at time t, reduced modulo 4K with
     /// [`GUARD_BITS`] extra bits: from f64 expansions at f64 precision (bit for bit the MPFR
-    /// reduction, see `motion/phase.rs`), in MPFR otherwise.
+    /// reduction, see `motion/phase.rs`) and in double-double (for an f64 time), in MPFR
+    /// otherwise.
     fn u_at(&self, t: &T) -> [T; 2] {
         match &self.clock {
             Some(clock) => {
                 let bits = self.constants.a.prec();
+                if let Some(tf) = t.dd_clock_time() {
+                    if let (Some(u1), Some(u2)) = (clock.reduced_dd(0, tf), clock.reduced_dd(1, tf))
+                    {
+                        return [T::from_dd(u1, bits), T::from_dd(u2, bits)];
+                    }
+                }
                 if bits <= 53 {
                     // t has at most 53 bits: it is the f64 t.to_f64().
                     let tf = t.to_f64();

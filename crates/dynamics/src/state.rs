@@ -16,6 +16,11 @@ pub const DIM: usize = 9;
 /// Tolerance on the geometric constraints of a user-given state.
 pub const CONSTRAINT_TOLERANCE: f64 = 1e-9;
 
+/// Largest magnitude of a state component read from outside (an option, a file, an adapter's
+/// answer): |ωᵢ|, |αᵢ|, |βᵢ| ≤ 1e8. Beyond it the integrals (≈ ω²) pass 1e16 and the root
+/// searches of N's geometry lose every digit; the bound is stated in docs/output.md.
+pub const MAX_COMPONENT: f64 = 1e8;
+
 /// Angular velocity ω and field directions α, β, all in the body frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct State<T> {
@@ -79,8 +84,8 @@ impl<T: Real> State<T> {
         }
     }
 
-    /// Check a user-given state: finite numbers, |α| = |β| = 1 and α·β = 0 within
-    /// [`CONSTRAINT_TOLERANCE`].
+    /// Check a user-given state: finite numbers of magnitude at most [`MAX_COMPONENT`],
+    /// |α| = |β| = 1 and α·β = 0 within [`CONSTRAINT_TOLERANCE`].
     pub fn validate(&self) -> Result<(), DynamicsError> {
         for (name, v) in [
             ("omega", &self.omega),
@@ -90,6 +95,13 @@ impl<T: Real> State<T> {
             if v.iter().any(|x| !x.is_finite()) {
                 return Err(DynamicsError::State(format!(
                     "{name} has a component that is not a finite number"
+                )));
+            }
+            if let Some(i) = v.iter().position(|x| x.to_f64().abs() > MAX_COMPONENT) {
+                return Err(DynamicsError::State(format!(
+                    "{name}{} = {:e} is outside the range of a state component (|x| <= {MAX_COMPONENT:e})",
+                    i + 1,
+                    v[i].to_f64()
                 )));
             }
         }

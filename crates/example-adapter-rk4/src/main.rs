@@ -10,8 +10,11 @@
 //! target/release/rsts compare --exec target/release/example-adapter-rk4 --rtol 1e-10 --t-end 20 --samples 201
 //! ```
 //!
-//! The step is rtol^(1/4) (at most 0.01), shortened so that every interval between two requested
-//! times is a whole number of steps; `--step H` sets it instead.
+//! The step is the request's `"step"` when it has one (a convergence study, `rsts convergence`),
+//! else rtol^(1/4) (at most 0.01), shortened so that every interval between two requested times
+//! is a whole number of steps; `--step H` sets it instead (and the request's step is ignored).
+//! `--tableau heun|kutta3|rk4-wrong-weight` runs another explicit Runge–Kutta method instead of
+//! the classical RK4 (known orders, for tests of observed-order fits).
 //!
 //! Events (docs/events.md): when the request asks for `"events"` (components of ω, α, β, γ),
 //! each step's event function is interpolated by the cubic Hermite polynomial of its values and
@@ -42,13 +45,61 @@ fn rhs(a: f64, b: f64, y: &State) -> State {
     ]
 }
 
-fn rk4_step(a: f64, b: f64, y: &State, h: f64) -> State {
-    let add = |y: &State, k: &State, c: f64| -> State { std::array::from_fn(|i| y[i] + c * k[i]) };
-    let k1 = rhs(a, b, y);
-    let k2 = rhs(a, b, &add(y, &k1, h / 2.0));
-    let k3 = rhs(a, b, &add(y, &k2, h / 2.0));
-    let k4 = rhs(a, b, &add(y, &k3, h));
-    std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
+/// An explicit Runge–Kutta method by its Butcher tableau: stage i uses a[i][..i], weights b.
+struct Tableau {
+    name: &'static str,
+    a: &'static [&'static [f64]],
+    b: &'static [f64],
+}
+
+/// The methods of `--tableau NAME`: the classical RK4 (default), Heun's method (order 2),
+/// Kutta's third-order method, and RK4 with one weight misplaced (b = 1/6, 1/2, 1/6, 1/6: the
+/// conditions of orders 1 and 2 still hold, Σ bᵢaᵢⱼcⱼ = 1/8 ≠ 1/6 fails, so its order is 2).
+const TABLEAUS: [Tableau; 4] = [
+    Tableau {
+        name: "rk4",
+        a: &[&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]],
+        b: &[1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],
+    },
+    Tableau {
+        name: "heun",
+        a: &[&[], &[1.0]],
+        b: &[0.5, 0.5],
+    },
+    Tableau {
+        name: "kutta3",
+        a: &[&[], &[0.5], &[-1.0, 2.0]],
+        b: &[1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0],
+    },
+    Tableau {
+        name: "rk4-wrong-weight",
+        a: &[&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]],
+        b: &[1.0 / 6.0, 0.5, 1.0 / 6.0, 1.0 / 6.0],
+    },
+];
+
+/// One step of `t` from y.
+fn rk_step(t: &Tableau, a: f64, b: f64, y: &State, h: f64) -> State {
+    let mut k: Vec<State> = Vec::with_capacity(t.b.len());
+    for row in t.a {
+        let stage: State = std::array::from_fn(|i| {
+            y[i] + h * row.iter().zip(&k).map(|(c, k)| c * k[i]).sum::<f64>()
+        });
+        k.push(rhs(a, b, &stage));
+    }
+    std::array::from_fn(|i| y[i] + h * t.b.iter().zip(&k).map(|(c, k)| c * k[i]).sum::<f64>())
+}
+
+/// The value after `flag` on the command line.
+fn option(args: &[String], flag: &str) -> Result<Option<String>, String> {
+    match args.iter().position(|s| s == flag) {
+        Some(i) => Ok(Some(
+            args.get(i + 1)
+                .ok_or(format!("{flag} needs a value"))?
+                .clone(),
+        )),
+        None => Ok(None),
+    }
 }
 
 /// A number given as a JSON number or a decimal string.
@@ -141,14 +192,21 @@ fn run() -> Result<Value, String> {
         .map(num)
         .collect::<Result<_, _>>()?;
     let args: Vec<String> = std::env::args().collect();
-    let step = match args.iter().position(|s| s == "--step") {
-        Some(i) => args
-            .get(i + 1)
-            .ok_or("--step needs a value")?
-            .parse()
-            .map_err(|_| "bad --step")?,
-        None => num(&req["rtol"])?.powf(0.25).min(0.01),
+    let name = option(&args, "--tableau")?.unwrap_or_else(|| "rk4".into());
+    let tableau = TABLEAUS.iter().find(|t| t.name == name).ok_or_else(|| {
+        let known: Vec<&str> = TABLEAUS.iter().map(|t| t.name).collect();
+        format!("unknown --tableau {name} (known: {})", known.join(", "))
+    })?;
+    // The step: --step H (fixed by the command line: the request's "step" is then ignored),
+    // else the request's "step" (a convergence study), else rtol^(1/4) capped at 0.01.
+    let step = match (option(&args, "--step")?, req.get("step")) {
+        (Some(h), _) => h.parse().map_err(|_| "bad --step")?,
+        (None, Some(h)) => num(h)?,
+        (None, None) => num(&req["rtol"])?.powf(0.25).min(0.01),
     };
+    if !(step.is_finite() && step > 0.0) {
+        return Err(format!("the step must be positive, got {step}"));
+    }
     let drop = match args.iter().position(|s| s == "--drop-event") {
         Some(i) => Some(
             args.get(i + 1)
@@ -181,7 +239,7 @@ fn run() -> Result<Value, String> {
         let n = ((w[1] - w[0]) / step).ceil().max(1.0);
         let h = (w[1] - w[0]) / n;
         for j in 0..n as u64 {
-            let next = rk4_step(a, b, &y, h);
+            let next = rk_step(tableau, a, b, &y, h);
             let t0 = w[0] + j as f64 * h;
             for (name, dir) in &asked {
                 let (e0, e1) = (event_fn(name, a, b, &y), event_fn(name, a, b, &next));
@@ -198,9 +256,9 @@ fn run() -> Result<Value, String> {
     }
     let seconds = started.elapsed().as_secs_f64();
     let mut answer = json!({
-        "name": "example-rk4",
+        "name": if tableau.name == "rk4" { "example-rk4".to_string() } else { format!("example-{}", tableau.name) },
         "samples": samples,
-        "stats": {"steps": steps, "rhs_evals": 4 * steps, "integration_seconds": seconds},
+        "stats": {"steps": steps, "rhs_evals": tableau.b.len() as u64 * steps, "integration_seconds": seconds},
     });
     if req.get("events").is_some() {
         found.sort_by(|p, q| p.1.total_cmp(&q.1));

@@ -7,11 +7,13 @@
 //! ```text
 //! request: {"protocol": "rsts-integrator/1", "a": "1", "b": "0.5",
 //!           "initial": {"omega": ["…", "…", "…"], "alpha": [...], "beta": [...]},
-//!           "times": [0, 0.1, …], "rtol": 1e-10, "atol": 1e-10, "digits": 36}
+//!           "times": [0, 0.1, …], "rtol": 1e-10, "atol": 1e-10, "digits": 36[, "step": 0.01]}
 //! answer:  {"name": "my-rk4", "samples": [{"t": 0, "omega": [3], "alpha": [3], "beta": [3]}, …],
 //!           "stats": {"steps": 123, "rhs_evals": 492, "integration_seconds": 0.01}}
 //! ```
 //!
+//! `"step"` is present only when a fixed step is asked (`rsts convergence`): every step of the
+//! integrator should then be h (each interval between two times is a whole number of steps).
 //! Parameters and the initial state are decimal strings carrying `digits` digits (the exact
 //! values the closed-form reference uses, rounded to that many digits); times are JSON numbers,
 //! starting at 0. The answer has one sample per time; its numbers may be JSON numbers or decimal
@@ -25,11 +27,9 @@
 //! killed when the child is done or overdue, and the child is always waited for (no zombie).
 
 use std::collections::BTreeSet;
-use std::io::{Read, Write};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
-use std::thread;
 use std::time::{Duration, Instant};
 
 use rug::Float;
@@ -37,14 +37,18 @@ use serde_json::{json, Value};
 
 use rsts_dynamics::integrators::{Problem, Stats, Tolerances};
 use rsts_dynamics::scalar::bits_for_digits;
-use rsts_harness::{check_times, HarnessError, Integrator, Trajectory};
+use rsts_harness::{check_times, FixedStepIntegrator, HarnessError, Integrator, Trajectory};
 
 use crate::files::{parse_csv, parse_json};
+use crate::pipes::{Ended, Pipes};
 
 /// The protocol name a request carries.
 pub const PROTOCOL: &str = "rsts-integrator/1";
 /// Default time a child may take (seconds).
 pub const DEFAULT_TIMEOUT_SECONDS: f64 = 600.0;
+/// Longest time a child may be given (seconds): every timeout (`--exec-timeout`, a suite's
+/// `[adapters.NAME] timeout`) is checked by [`check_timeout`].
+pub const MAX_TIMEOUT_SECONDS: f64 = 1e9;
 /// Default decimal digits of the parameters and initial state of a request.
 pub const DEFAULT_DIGITS: u32 = 36;
 /// Lines of a child's stderr shown in an error.
@@ -70,6 +74,18 @@ fn kill_group(pgid: i32) {
     // SAFETY: kill(2) with a negative pid signals a process group; no memory is involved.
     unsafe {
         libc::kill(-pgid, libc::SIGKILL);
+    }
+}
+
+/// The one rule for a timeout: a finite number of seconds, > 0 and at most
+/// [`MAX_TIMEOUT_SECONDS`] (about 31 years; a deadline that far ahead never overflows).
+pub fn check_timeout(seconds: f64) -> Result<Duration, String> {
+    if seconds.is_finite() && seconds > 0.0 && seconds <= MAX_TIMEOUT_SECONDS {
+        Ok(Duration::from_secs_f64(seconds))
+    } else {
+        Err(format!(
+            "must be a positive number of seconds, at most {MAX_TIMEOUT_SECONDS:e}; got {seconds}"
+        ))
     }
 }
 
@@ -131,6 +147,8 @@ pub struct Exec {
     pub events: Vec<(String, String)>,
     /// The `"events"` of the last answer as (name, t), when it had them.
     pub answered_events: Option<Vec<(String, f64)>>,
+    /// A fixed step asked of the integrator (`"step"` in the request; convergence studies).
+    pub step: Option<f64>,
 }
 
 impl Exec {
@@ -153,6 +171,7 @@ impl Exec {
             timeout: Duration::from_secs_f64(DEFAULT_TIMEOUT_SECONDS),
             events: Vec::new(),
             answered_events: None,
+            step: None,
         })
     }
 
@@ -171,14 +190,9 @@ impl Exec {
         Ok(self)
     }
 
-    /// Time the child may take (positive, finite seconds).
+    /// Time the child may take ([`check_timeout`]).
     pub fn with_timeout(mut self, seconds: f64) -> Result<Self, String> {
-        if !(seconds.is_finite() && seconds > 0.0) {
-            return Err(format!(
-                "the timeout must be a positive number of seconds, got {seconds}"
-            ));
-        }
-        self.timeout = Duration::from_secs_f64(seconds);
+        self.timeout = check_timeout(seconds)?;
         Ok(self)
     }
 
@@ -231,6 +245,9 @@ impl Exec {
                 .collect();
             request["events"] = Value::Array(list);
         }
+        if let Some(h) = self.step {
+            request["step"] = json!(h);
+        }
         request
     }
 
@@ -242,8 +259,13 @@ impl Exec {
         ))
     }
 
-    /// Run the child on `request`: its stdout, stderr and wall time.
-    pub fn run_raw(&self, request: &[u8]) -> Result<(Vec<u8>, Vec<u8>, f64), HarnessError> {
+    /// Run the child on `request`: its stdout (at most `max_answer` bytes, else an error), the
+    /// end of its stderr and its wall time.
+    pub fn run_raw(
+        &self,
+        request: &[u8],
+        max_answer: usize,
+    ) -> Result<(Vec<u8>, Vec<u8>, f64), HarnessError> {
         let mut cmd = Command::new(&self.argv[0]);
         cmd.args(&self.argv[1..])
             .stdin(Stdio::piped())
@@ -263,7 +285,7 @@ impl Exec {
         if let Ok(mut set) = RUNNING.lock() {
             set.insert(pgid);
         }
-        let result = self.talk(&mut child, request, started);
+        let result = self.talk(&mut child, request, started, max_answer);
         // Whatever happened: no process of the group left behind, the child reaped.
         kill_group(pgid);
         let _ = child.wait();
@@ -278,46 +300,38 @@ impl Exec {
         child: &mut Child,
         request: &[u8],
         started: Instant,
+        max_answer: usize,
     ) -> Result<(Vec<u8>, Vec<u8>, f64), HarnessError> {
-        let mut stdin = child.stdin.take().expect("piped");
-        let request = request.to_vec();
-        // A child that does not read its input must not block us: write from a thread, and
-        // ignore a broken pipe (its exit status and answer tell what went wrong).
-        let writer = thread::spawn(move || {
-            let _ = stdin.write_all(&request);
-        });
-        let reader = |mut r: Box<dyn Read + Send>| {
-            thread::spawn(move || {
-                let mut buf = Vec::new();
-                let _ = r.read_to_end(&mut buf);
-                buf
-            })
-        };
-        let out = reader(Box::new(child.stdout.take().expect("piped")));
-        let err = reader(Box::new(child.stderr.take().expect("piped")));
-        let status = wait_until(child, started + self.timeout);
+        // One thread serves the three pipes until the deadline, whatever still holds them.
+        let mut pipes = Pipes::new(child, request, max_answer);
+        let ended = pipes.serve(child, started + self.timeout);
         let wall = started.elapsed().as_secs_f64();
-        if status.is_none() {
-            kill_group(child.id() as i32);
-        }
-        let _ = child.wait();
         kill_group(child.id() as i32);
-        let _ = writer.join();
-        let stdout = out.join().unwrap_or_default();
-        let stderr = err.join().unwrap_or_default();
-        match status {
-            None => Err(self.fail(
+        let _ = child.wait();
+        let (stdout, stderr) = (
+            std::mem::take(&mut pipes.out),
+            std::mem::take(&mut pipes.err),
+        );
+        match ended {
+            Ended::Overdue => Err(self.fail(
                 format_args!(
                     "no answer within {} s (the timeout, --exec-timeout); the process was killed",
                     self.timeout.as_secs_f64()
                 ),
                 &stderr,
             )),
-            Some(_) if STOPPED.load(Ordering::SeqCst) => {
+            Ended::TooLong => Err(self.fail(
+                format_args!(
+                    "its answer passed {max_answer} bytes, the most an answer to this request may take \
+                     (samples x digits, see docs/output.md); the process was killed"
+                ),
+                &stderr,
+            )),
+            Ended::Exited(_) if STOPPED.load(Ordering::SeqCst) => {
                 Err(self.fail("stopped (Ctrl-C)", &stderr))
             }
-            Some(s) if !s.success() => Err(self.fail(describe_status(s), &stderr)),
-            Some(_) => Ok((stdout, stderr, wall)),
+            Ended::Exited(s) if !s.success() => Err(self.fail(describe_status(s), &stderr)),
+            Ended::Exited(_) => Ok((stdout, stderr, wall)),
         }
     }
 
@@ -462,22 +476,12 @@ fn parse_stats(v: Option<&Value>) -> Result<AnswerStats, String> {
     ))
 }
 
-/// Wait for the child until `deadline`; `None` when it is still running then.
-fn wait_until(child: &mut Child, deadline: Instant) -> Option<ExitStatus> {
-    let mut pause = Duration::from_micros(200);
-    loop {
-        match child.try_wait() {
-            Ok(Some(status)) => return Some(status),
-            Ok(None) => {}
-            Err(_) => return None,
-        }
-        let now = Instant::now();
-        if now >= deadline {
-            return None;
-        }
-        thread::sleep(pause.min(deadline - now));
-        pause = (pause * 2).min(Duration::from_millis(20));
-    }
+/// The most bytes an answer of `samples` samples at `digits` digits may take: 1 MiB, plus per
+/// sample ten values of up to `digits` + 40 characters and 400 of keys and layout (pretty JSON),
+/// doubled. Far more than any honest answer; a bound on what an adapter can make us hold.
+pub fn max_answer(samples: usize, digits: u32) -> usize {
+    let per_sample = 10 * (digits as usize + 40) + 400;
+    (1 << 20) + 2 * samples.saturating_mul(per_sample)
 }
 
 fn describe_status(s: ExitStatus) -> String {
@@ -545,7 +549,8 @@ impl Integrator for Exec {
         let bits = problem.initial.omega[0].prec();
         let request = serde_json::to_vec(&self.request(problem, times))
             .map_err(|e| HarnessError::Integrator(format!("cannot write the request: {e}")))?;
-        let (stdout, stderr, wall) = self.run_raw(&request)?;
+        let (stdout, stderr, wall) =
+            self.run_raw(&request, max_answer(times.len(), self.digits))?;
         let (states, mut stats) = self.parse_answer(&stdout, &stderr, times, bits)?;
         if stats.integration_seconds.is_nan() {
             stats.integration_seconds = wall;
@@ -563,9 +568,63 @@ impl Integrator for Exec {
     }
 }
 
+/// At a fixed step: the request carries `"step": h` (an adapter that ignores it answers the
+/// same for every step and is refused by [`rsts_harness::convergence()`]).
+impl FixedStepIntegrator for Exec {
+    fn name(&self) -> String {
+        Integrator::name(self)
+    }
+
+    fn label(&self) -> String {
+        format!(
+            "{} (external integrator `{}`)",
+            Integrator::name(self),
+            self.command_line()
+        )
+    }
+
+    fn working_bits(&self) -> u32 {
+        Integrator::working_bits(self)
+    }
+
+    fn integrate_at(
+        &mut self,
+        step: f64,
+        problem: &Problem<Float>,
+        times: &[f64],
+    ) -> Result<Trajectory, HarnessError> {
+        self.step = Some(step);
+        let result = self.integrate(problem, times);
+        self.step = None;
+        result
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `"step"` is in the request only when a fixed step is asked.
+    #[test]
+    fn the_step_is_sent_only_when_asked() {
+        use rsts_dynamics::{Fields, State};
+        let f = |x: f64| Float::with_val(64, x);
+        let problem = Problem {
+            fields: Fields {
+                a: f(1.0),
+                b: f(0.5),
+            },
+            initial: State {
+                omega: [f(0.1), f(0.2), f(0.3)],
+                alpha: [f(1.0), f(0.0), f(0.0)],
+                beta: [f(0.0), f(1.0), f(0.0)],
+            },
+        };
+        let mut exec = Exec::new("x", Tolerances::new(1e-8, 1e-8).unwrap()).unwrap();
+        assert!(exec.request(&problem, &[0.0, 1.0]).get("step").is_none());
+        exec.step = Some(0.125);
+        assert_eq!(exec.request(&problem, &[0.0, 1.0])["step"], json!(0.125));
+    }
 
     #[test]
     fn commands_are_split_like_a_shell_would() {

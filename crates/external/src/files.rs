@@ -8,7 +8,7 @@ use std::path::Path;
 
 use serde_json::Value;
 
-use crate::samples::{check_f64, check_text, Number, RawTrajectory};
+use crate::samples::{check_component, check_f64, check_text, Number, RawTrajectory};
 
 /// Columns every trajectory has, in the order of `rsts explicit --format csv` and
 /// `rsts integrate --format csv`.
@@ -93,6 +93,8 @@ fn unquote(s: &str) -> &str {
 /// ignored). A header written by `numpy.savetxt(..., header=...)` (starting with `# `) is
 /// accepted; other lines starting with `#` and blank lines are skipped.
 pub fn parse_csv(text: &str) -> Result<RawTrajectory, String> {
+    // A byte-order mark (as spreadsheet programs write) is not part of the first column's name.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut lines = text
         .lines()
         .enumerate()
@@ -120,6 +122,14 @@ pub fn parse_csv(text: &str) -> Result<RawTrajectory, String> {
             COLUMNS.join(",")
         ));
     }
+    if let Some(twice) = COLUMNS
+        .iter()
+        .find(|col| names.iter().filter(|n| *n == *col).count() > 1)
+    {
+        return Err(format!(
+            "line {header_line}: the header names column {twice} more than once (which one is meant?)"
+        ));
+    }
     let mut raw = RawTrajectory::default();
     for (k, line) in lines {
         if line.trim().is_empty() || line.trim_start().starts_with('#') {
@@ -135,6 +145,7 @@ pub fn parse_csv(text: &str) -> Result<RawTrajectory, String> {
         }
         let value = |c: usize| {
             check_text(fields[index[c]])
+                .and_then(|n| if c > 0 { check_component(n) } else { Ok(n) })
                 .map_err(|e| format!("line {k}, column {} ({}): {e}", index[c] + 1, COLUMNS[c]))
         };
         let t = value(0)?;
@@ -185,8 +196,9 @@ pub fn parse_json(doc: &Value) -> Result<RawTrajectory, String> {
                 .filter(|a| a.len() == 3)
                 .ok_or_else(|| format!("{place}: \"{key}\" must be an array of 3 numbers"))?;
             for (i, x) in arr.iter().enumerate() {
-                state[3 * v + i] =
-                    json_number(x).map_err(|e| format!("{place}.{key}[{i}]: {e}"))?;
+                state[3 * v + i] = json_number(x)
+                    .and_then(check_component)
+                    .map_err(|e| format!("{place}.{key}[{i}]: {e}"))?;
             }
         }
         raw.push(t, state, place);
@@ -195,7 +207,8 @@ pub fn parse_json(doc: &Value) -> Result<RawTrajectory, String> {
 }
 
 /// An npy file (as `numpy.save` writes it): float64, shape (N, 10), columns t and the nine
-/// components; C or Fortran order.
+/// components, or (N, 13) as `rsts reference` writes it (H, K, G after them, not read); C or
+/// Fortran order.
 pub fn parse_npy(bytes: &[u8]) -> Result<RawTrajectory, String> {
     let npy = npyz::NpyFile::new(bytes).map_err(|e| format!("not a valid npy file ({e})"))?;
     let dtype = match npy.dtype() {
@@ -208,31 +221,33 @@ pub fn parse_npy(bytes: &[u8]) -> Result<RawTrajectory, String> {
         ));
     }
     let shape = npy.shape().to_vec();
-    if shape.len() != 2 || shape[1] != 10 {
+    if shape.len() != 2 || (shape[1] != 10 && shape[1] != 13) {
         return Err(format!(
-            "shape {shape:?}: expected (N, 10) (columns {})",
+            "shape {shape:?}: expected (N, 10) (columns {}) or (N, 13) (with H,K,G)",
             COLUMNS.join(",")
         ));
     }
     let order = npy.order();
     let rows = shape[0] as usize;
+    let width = shape[1] as usize;
     let data: Vec<f64> = npy.into_vec().map_err(|e| {
-        format!("truncated or damaged data: {e} (expected {rows} rows of 10 float64)")
+        format!("truncated or damaged data: {e} (expected {rows} rows of {width} float64)")
     })?;
-    if data.len() != rows * 10 {
+    if data.len() != rows * width {
         return Err(format!(
-            "truncated: {} values, expected {rows} rows of 10",
+            "truncated: {} values, expected {rows} rows of {width}",
             data.len()
         ));
     }
     let at = |r: usize, c: usize| match order {
-        npyz::Order::C => data[r * 10 + c],
+        npyz::Order::C => data[r * width + c],
         npyz::Order::Fortran => data[c * rows + r],
     };
     let mut raw = RawTrajectory::default();
     for r in 0..rows {
         let cell = |c: usize| {
             check_f64(at(r, c))
+                .and_then(|n| if c > 0 { check_component(n) } else { Ok(n) })
                 .map_err(|e| format!("row {}, column {} ({}): {e}", r + 1, c + 1, COLUMNS[c]))
         };
         let t = cell(0)?;
@@ -268,11 +283,16 @@ pub fn read_mcap(path: &Path) -> Result<RawTrajectory, String> {
         let t = num(p.value.get("t"), "t")?;
         let mut state: [Number; 9] = std::array::from_fn(|_| Number::F64(0.0));
         for (v, key) in ["omega", "alpha", "beta"].iter().enumerate() {
-            for i in 0..3 {
-                state[3 * v + i] = num(
-                    p.value.get(key).and_then(|a| a.get(i)),
-                    &format!("{key}[{i}]"),
-                )?;
+            let arr = p
+                .value
+                .get(key)
+                .and_then(Value::as_array)
+                .filter(|a| a.len() == 3)
+                .ok_or_else(|| format!("{place}: \"{key}\" must be an array of 3 numbers"))?;
+            for (i, x) in arr.iter().enumerate() {
+                state[3 * v + i] = num(Some(x), &format!("{key}[{i}]")).and_then(|n| {
+                    check_component(n).map_err(|e| format!("{place}: {key}[{i}]: {e}"))
+                })?;
             }
         }
         raw.push(t, state, place);
@@ -375,6 +395,16 @@ mod tests {
         assert_eq!(raw.states[2][8], Number::F64(2.0 + 0.9));
         let e = parse_npy(&bytes[..bytes.len() - 5]).unwrap_err();
         assert!(e.contains("truncated"), "{e}");
+        // The (N, 13) of `rsts reference`: H, K, G after the state are not read.
+        let wide: Vec<Vec<f64>> = (0..3)
+            .map(|k| (0..13).map(|c| k as f64 + 0.1 * c as f64).collect())
+            .collect();
+        let narrow: Vec<Vec<f64>> = wide.iter().map(|r| r[..10].to_vec()).collect();
+        assert_eq!(
+            parse_npy(&npy_bytes(&wide, 13)).unwrap(),
+            parse_npy(&npy_bytes(&narrow, 10)).unwrap()
+        );
+        assert!(parse_npy(&npy_bytes(&[vec![0.0; 12]], 12)).is_err());
         let e = parse_npy(&npy_bytes(&[vec![0.0; 9]], 9)).unwrap_err();
         assert!(e.contains("shape [1, 9]"), "{e}");
         let e = parse_npy(b"hello").unwrap_err();

@@ -13,11 +13,12 @@
 
 pub mod exec;
 pub mod files;
+mod pipes;
 pub mod samples;
 
 pub use exec::{
-    check_program, kill_running, split_command, Exec, DEFAULT_DIGITS, DEFAULT_TIMEOUT_SECONDS,
-    PROTOCOL,
+    check_program, check_timeout, kill_running, split_command, Exec, DEFAULT_DIGITS,
+    DEFAULT_TIMEOUT_SECONDS, MAX_TIMEOUT_SECONDS, PROTOCOL,
 };
 pub use files::{npy_bytes, npy_header, read_trajectory, FileFormat, COLUMNS};
 pub use samples::{Number, RawTrajectory, Samples};

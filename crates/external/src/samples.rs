@@ -62,26 +62,52 @@ pub fn significant_digits(s: &str) -> usize {
 /// Check a decimal text: a finite number (as f64 it may over- or underflow only when it has more
 /// than 17 digits and is read exactly). Returns why not.
 pub fn check_text(s: &str) -> Result<Number, String> {
-    let t = s.trim();
+    let t_full = s.trim();
+    let shown = cut(t_full);
+    let t = shown.as_str();
     if t.is_empty() {
         return Err("empty value".into());
     }
-    let lower = t.to_ascii_lowercase();
+    let lower = t_full.to_ascii_lowercase();
     if lower.contains("nan") {
         return Err(format!("'{t}' is not a finite number (NaN)"));
     }
     if lower.contains("inf") {
         return Err(format!("'{t}' is not a finite number (infinite)"));
     }
-    match t.parse::<f64>() {
+    match t_full.parse::<f64>() {
         Ok(x) if x.is_finite() => {}
         Ok(_) => return Err(format!("'{t}' overflows (not a finite number)")),
         Err(_) => return Err(format!("'{t}' is not a number")),
     }
-    if Float::parse(t).is_err() {
+    if Float::parse(t_full).is_err() {
         return Err(format!("'{t}' is not a number"));
     }
-    Ok(Number::Text(t.to_string()))
+    Ok(Number::Text(t_full.to_string()))
+}
+
+/// A value as shown in a message: at most 40 characters (a 50 MB field is not repeated whole).
+pub fn cut(s: &str) -> String {
+    const SHOWN: usize = 40;
+    if s.chars().count() <= SHOWN {
+        return s.to_string();
+    }
+    let head: String = s.chars().take(SHOWN).collect();
+    format!("{head}… ({} characters)", s.chars().count())
+}
+
+/// Check that a state component read from outside is within the stated range
+/// ([`rsts_dynamics::state::MAX_COMPONENT`]): a larger value would only make the geometry of
+/// the error search without end.
+pub fn check_component(n: Number) -> Result<Number, String> {
+    let max = rsts_dynamics::state::MAX_COMPONENT;
+    let x = n.to_f64();
+    if x.abs() > max {
+        return Err(format!(
+            "{x:e} is outside the range of a state component (|x| <= {max:e}, docs/output.md)"
+        ));
+    }
+    Ok(n)
 }
 
 /// Check an f64 value.

@@ -7,6 +7,7 @@
 //! [`SampleRecord`] (MCAP log, progress bar, series for fits). [`analyse`] runs it over a whole
 //! trajectory.
 
+use rayon::prelude::*;
 use rsts_closed_form::ExplicitMotion;
 use rsts_dynamics::integrals::integrals;
 use rsts_dynamics::integrators::Stats;
@@ -15,9 +16,15 @@ use rsts_dynamics::{Fields, State};
 use rug::Float;
 
 use crate::case::Case;
+use crate::digits::{CorrectDigits, DigitsTracker};
+use crate::drift_growth::DriftSeries;
 use crate::geometry::Geometry;
-use crate::metrics::{exact_state, sample_errors, Drift, ManifoldN, Report, SampleErrors};
+use crate::metrics::{
+    exact_state, sample_errors, Drift, ManifoldN, Report, SampleErrors, StateSnapshot,
+};
+use crate::rounded_reference::DdReference;
 use crate::{HarnessError, SampleRecord};
+use rsts_dynamics::scalar::DoubleDouble;
 
 /// Receives the samples of an analysis as they are computed.
 pub trait Observer {
@@ -55,7 +62,33 @@ pub struct Analysis {
     initial_integrals: [Float; 3],
     bits: u32,
     report: Report,
+    digits: DigitsTracker,
+    drifts: DriftSeries,
     geometry: Option<Geometry>,
+    /// The closed form in double-double, the reference of f64 data (digits ≤ 16).
+    dd: Option<DdReference>,
+    /// The constants of the measurement in double-double (with `dd`).
+    dd_measure: Option<DdMeasure>,
+}
+
+/// Samples evaluated in parallel between two rounds of recording (memory: ~2 kB each).
+const BATCH: usize = 4096;
+
+/// A sample evaluated apart from the samples before it (the parallel part of
+/// [`Analysis::sample`]).
+struct Evaluated {
+    exact: State<Float>,
+    errors: SampleErrors,
+    snapshots: (StateSnapshot, StateSnapshot),
+    geometry: Option<crate::geometry::SampleGeometry>,
+}
+
+/// Fields, N and the initial integrals rounded to double-double: the errors of f64 data are
+/// measured in double-double (106 bits, 53 beyond the data; docs/closed-form.md).
+struct DdMeasure {
+    fields: Fields<DoubleDouble>,
+    n: ManifoldN<DoubleDouble>,
+    initial_integrals: [DoubleDouble; 3],
 }
 
 impl Analysis {
@@ -70,6 +103,7 @@ impl Analysis {
             p2: c.p2.clone(),
             r4m: r4 * &c.m,
         };
+        let digits = DigitsTracker::new(info.rtol, info.atol);
         let start = exact_state(&motion.at(&Float::with_val(bits, 0)));
         let i0 = integrals(&fields, &start);
         let report = Report {
@@ -84,6 +118,7 @@ impl Analysis {
             max_state_error: 0.0,
             final_state_error: 0.0,
             max_orientation_error: 0.0,
+            correct_digits: CorrectDigits::default(),
             drift: Drift::default(),
             steps: 0,
             rejected_steps: 0,
@@ -104,14 +139,61 @@ impl Analysis {
             initial_integrals: [i0.h, i0.k, i0.g],
             bits,
             report,
+            digits,
+            drifts: DriftSeries::new(),
             geometry,
+            dd: None,
+            dd_measure: None,
         }
     }
 
     /// The motion of `case` (its a, b, m, h, torus and phases; not its grid) at `bits` bits.
+    /// For data of at most 16 digits (f64) the samples that are f64 exactly are measured in
+    /// double-double against the closed form in double-double ([`DdReference`];
+    /// docs/closed-form.md: why that is exact enough), the others in MPFR.
     pub fn for_case(case: &Case, bits: u32, info: RunInfo) -> Result<Self, HarnessError> {
         let (motion, fields) = case.reference_motion(bits)?;
-        Ok(Self::new(motion, fields, info))
+        let f64_data = info.digits <= 16;
+        let mut analysis = Self::new(motion, fields, info);
+        if f64_data {
+            analysis.dd = DdReference::new(case, case.t_end, |t| {
+                analysis.exact_state(&Float::with_val(bits, t)).to_array()
+            });
+            let d = DoubleDouble::from_float;
+            let n = &analysis.n;
+            analysis.dd_measure = Some(DdMeasure {
+                fields: Fields {
+                    a: d(&analysis.fields.a),
+                    b: d(&analysis.fields.b),
+                },
+                n: ManifoldN {
+                    k: d(&n.k),
+                    p2: d(&n.p2),
+                    r4m: d(&n.r4m),
+                },
+                initial_integrals: analysis.initial_integrals.clone().map(|x| d(&x)),
+            });
+        }
+        Ok(analysis)
+    }
+
+    /// The exact state and the errors of an f64 sample (time and state f64 exactly) in
+    /// double-double; `None` for other samples (or data of more than 16 digits).
+    fn errors_dd(
+        &self,
+        t: &Float,
+        state: &State<Float>,
+    ) -> Option<(State<Float>, (SampleErrors, StateSnapshot, StateSnapshot))> {
+        let (dd, m) = (self.dd.as_ref()?, self.dd_measure.as_ref()?);
+        let is_f64 = |x: &Float| x.to_f64() == *x;
+        let mut all = state.omega.iter().chain(&state.alpha).chain(&state.beta);
+        if !is_f64(t) || !all.all(is_f64) {
+            return None;
+        }
+        let exact = dd.state(t.to_f64());
+        let x = state.map(|v| DoubleDouble::from_f64_exact(v.to_f64()));
+        let errors = sample_errors(&m.fields, &m.n, &m.initial_integrals, &exact, &x);
+        Some((exact.map(|v| v.to_float(self.bits)), errors))
     }
 
     /// Precision of the reference.
@@ -140,19 +222,96 @@ impl Analysis {
         state: &State<Float>,
         observer: &mut dyn Observer,
     ) -> Result<SampleErrors, HarnessError> {
-        let exact = self.exact_state(t);
-        let (mut errors, ex, int) = sample_errors(
-            &self.fields,
-            &self.n,
-            &self.initial_integrals,
-            &exact,
-            state,
-        );
-        if let Some(g) = self
+        let evaluated = self.evaluate(t, state);
+        self.record(t, state, evaluated, observer)
+    }
+
+    /// Analyse samples in time order as [`Analysis::sample`] does one by one, evaluating them
+    /// in parallel batches on the current rayon pool (the report and the observer's records
+    /// are the same). Stops (report `complete: false`) when the observer asks. Returns the
+    /// errors of the first sample.
+    pub fn sample_all(
+        &mut self,
+        times: &[Float],
+        states: &[State<Float>],
+        observer: &mut dyn Observer,
+    ) -> Result<Option<SampleErrors>, HarnessError> {
+        let mut first = None;
+        for (tc, sc) in times.chunks(BATCH).zip(states.chunks(BATCH)) {
+            if observer.should_stop() {
+                self.mark_incomplete();
+                break;
+            }
+            let me = &*self;
+            let evaluated: Vec<Evaluated> = tc
+                .par_iter()
+                .zip(sc)
+                .map(|(t, s)| me.evaluate(t, s))
+                .collect();
+            for ((t, s), ev) in tc.iter().zip(sc).zip(evaluated) {
+                if observer.should_stop() {
+                    self.mark_incomplete();
+                    return Ok(first);
+                }
+                let e = self.record(t, s, ev, observer)?;
+                first.get_or_insert(e);
+            }
+        }
+        Ok(first)
+    }
+
+    /// What a sample's errors are, apart from the samples before it.
+    fn evaluate(&self, t: &Float, state: &State<Float>) -> Evaluated {
+        let (exact, (errors, ex, int)) = match self.errors_dd(t, state) {
+            Some(dd) => dd,
+            None => {
+                let exact = self.exact_state(t);
+                let errors = sample_errors(
+                    &self.fields,
+                    &self.n,
+                    &self.initial_integrals,
+                    &exact,
+                    state,
+                );
+                (exact, errors)
+            }
+        };
+        let geometry = self
             .geometry
-            .as_mut()
-            .and_then(|geometry| geometry.sample(t, state, &exact, errors.state_error))
-        {
+            .as_ref()
+            .and_then(|g| g.evaluate(t, state, &exact));
+        Evaluated {
+            exact,
+            errors,
+            snapshots: (ex, int),
+            geometry,
+        }
+    }
+
+    /// Add an evaluated sample (the next in time order) to the report and the observer.
+    fn record(
+        &mut self,
+        t: &Float,
+        state: &State<Float>,
+        evaluated: Evaluated,
+        observer: &mut dyn Observer,
+    ) -> Result<SampleErrors, HarnessError> {
+        let Evaluated {
+            exact,
+            mut errors,
+            snapshots: (ex, int),
+            geometry,
+        } = evaluated;
+        let state_error = errors.state_error;
+        let geometry = match (geometry, self.geometry.as_mut()) {
+            (Some(g), Some(geometry)) => {
+                geometry.record(t.to_f64(), &g, state_error);
+                Some(g)
+            }
+            (_, Some(geometry)) => geometry.sample(t, state, &exact, state_error),
+            (_, None) => None,
+        };
+        if let Some(g) = geometry {
             errors.distance_from_n = g.distance_from_n;
             errors.x_phi = g.x_phi;
             errors.along_n = g.along_n;
@@ -160,6 +319,17 @@ impl Analysis {
         }
         let index = self.report.samples_compared;
         self.report.absorb(&errors);
+        self.digits.sample(&exact, state);
+        self.report.correct_digits = self.digits.summary();
+        self.drifts.push(
+            t.to_f64(),
+            [
+                errors.drift_h,
+                errors.drift_k,
+                errors.drift_g,
+                errors.constraint_drift,
+            ],
+        );
         observer
             .on_sample(&SampleRecord {
                 index,
@@ -200,6 +370,7 @@ impl Analysis {
     /// The report with the growth fits and the split of the error (docs/stability.md).
     pub fn finish(self) -> Report {
         let mut report = self.report;
+        report.drift.growth = Some(self.drifts.laws());
         if let Some(geometry) = self.geometry {
             let g = geometry.finish();
             report.normal = Some(g.normal);
@@ -279,5 +450,62 @@ mod tests {
         );
         assert!(off.final_state_error < 1e-55);
         assert!(off.drift.constraints > 1e-10);
+    }
+
+    /// f64 data are measured in double-double (for_case, 15 digits) with the report of the
+    /// measurement in MPFR (Analysis::new has no double-double) to 12 digits and more: errors
+    /// of 1e-9 to 1e-16, drifts, orientation.
+    #[test]
+    fn f64_data_measured_in_double_double_as_in_mpfr() {
+        let case = Case {
+            m: -0.7092,
+            h: 1.5643,
+            torus: 2,
+            t_end: 50.0,
+            ..Case::default_i_plus()
+        };
+        let bits = 172;
+        let dd = Analysis::for_case(&case, bits, info()).unwrap();
+        assert!(dd.dd.is_some());
+        let (motion, fields) = case.reference_motion(bits).unwrap();
+        let mp = Analysis::new(motion, fields, info());
+        let times: Vec<Float> = (0..200)
+            .map(|k| Float::with_val(bits, 0.25 * k as f64))
+            .collect();
+        let states: Vec<State<Float>> = times
+            .iter()
+            .enumerate()
+            .map(|(k, t)| {
+                let s = dd.exact_state(t);
+                s.map(|x| {
+                    let wobble = 1e-9 * ((k as f64) * 0.37).sin() * (k as f64 / 200.0).powi(3);
+                    Float::with_val(bits, x.to_f64() + wobble)
+                })
+            })
+            .collect();
+        let a = analyse(dd, &times, &states, &mut NoObserver).unwrap();
+        let b = analyse(mp, &times, &states, &mut NoObserver).unwrap();
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * x.abs().max(y.abs());
+        for (what, x, y) in [
+            ("max_state_error", a.max_state_error, b.max_state_error),
+            (
+                "final_state_error",
+                a.final_state_error,
+                b.final_state_error,
+            ),
+            (
+                "orientation",
+                a.max_orientation_error,
+                b.max_orientation_error,
+            ),
+            ("H", a.drift.h, b.drift.h),
+            ("K", a.drift.k, b.drift.k),
+            ("G", a.drift.g, b.drift.g),
+            ("constraints", a.drift.constraints, b.drift.constraints),
+            ("off_N", a.drift.off_n, b.drift.off_n),
+        ] {
+            assert!(close(x, y), "{what}: {x:e} (double-double) vs {y:e} (MPFR)");
+        }
+        assert!(a.max_state_error > 1e-10 && a.max_state_error < 1e-8);
     }
 }

@@ -8,13 +8,14 @@
 //! [`reference_bits_for`] the integrator's precision (64 bits beyond it), and reused across
 //! repeats, tolerances and integrators.
 
-use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem};
+use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Tolerances};
 use rsts_dynamics::{Fields, State};
 use rug::Float;
 use serde::{Deserialize, Serialize};
 
 use crate::case::Case;
 use crate::compare::{reference_bits, reference_bits_for};
+use crate::digits::{correct_digits, CorrectDigits};
 use crate::integrator::{Integrator, Trajectory};
 use crate::metrics::exact_state;
 use crate::HarnessError;
@@ -26,9 +27,19 @@ pub struct BenchRow {
     pub tolerance: f64,
     /// max over samples and the nine components (ω, α, β) of |x − x_exact|.
     pub max_error: f64,
+    /// Correct digits of the run (`scd`, `mescd`, `scd_min`, `mescd_min`: [`crate::digits`]).
+    #[serde(flatten)]
+    pub correct_digits: CorrectDigits,
     /// Median over the repeats of the integrator's own time (an external integrator's
     /// `integration_seconds` when it reports one, else its wall time).
     pub integration_seconds: f64,
+    /// Smallest, median and largest of that time over the repeats.
+    #[serde(default)]
+    pub time_min: f64,
+    #[serde(default)]
+    pub time_median: f64,
+    #[serde(default)]
+    pub time_max: f64,
     pub steps: u64,
     pub rhs_evals: u64,
     /// Median over the repeats of the wall time measured around an external integrator
@@ -199,7 +210,8 @@ pub fn measure_integrator(
         fields: reference.fields.clone(),
         initial: reference.states[0].clone(),
     };
-    let mut row = summarize(reference, repeats, || {
+    let tolerances = integrator.tolerances();
+    let mut row = summarize(reference, repeats, tolerances, || {
         integrator.integrate(&problem, &reference.times)
     })?;
     row.method = integrator.name();
@@ -209,10 +221,12 @@ pub fn measure_integrator(
     Ok(row)
 }
 
-/// Run `run` `repeats` times: error, steps and evaluations of the first run, median times.
+/// Run `run` `repeats` times: error, digits (for `tolerances`), steps and evaluations of the
+/// first run, median times.
 fn summarize(
     reference: &Reference,
     repeats: usize,
+    tolerances: Option<Tolerances>,
     mut run: impl FnMut() -> Result<Trajectory, HarnessError>,
 ) -> Result<BenchRow, HarnessError> {
     let mut seconds = Vec::with_capacity(repeats);
@@ -231,7 +245,16 @@ fn summarize(
         method: String::new(),
         tolerance: f64::NAN,
         max_error: max_state_error(&reference.states, &traj.states)?,
+        correct_digits: correct_digits(
+            &reference.states,
+            &traj.states,
+            tolerances.map(|t| t.rtol),
+            tolerances.map(|t| t.atol),
+        ),
         integration_seconds: median(&seconds),
+        time_min: seconds.iter().copied().fold(f64::INFINITY, f64::min),
+        time_median: median(&seconds),
+        time_max: seconds.iter().copied().fold(f64::NEG_INFINITY, f64::max),
         steps: traj.stats.accepted_steps,
         rhs_evals: traj.stats.rhs_evals,
         wall_seconds: (!walls.is_empty()).then(|| median(&walls)),
@@ -243,7 +266,7 @@ fn summarize(
 mod tests {
     use super::*;
     use rsts_closed_form::{ExplicitMotion, TorusChoice};
-    use rsts_dynamics::integrators::{MethodName, Stats, Tolerances};
+    use rsts_dynamics::integrators::{MethodName, Stats};
 
     fn case(t_end: f64, samples: usize) -> Case {
         Case {
@@ -366,7 +389,7 @@ mod tests {
         let reference = Reference::new(&c, 200).unwrap();
         let times = [5.0, 0.5, 40.0, 1.5, 2.0];
         let mut k = 0;
-        let row = summarize(&reference, times.len(), || {
+        let row = summarize(&reference, times.len(), None, || {
             let seconds = times[k];
             k += 1;
             let mut states = reference.states().to_vec();
@@ -386,6 +409,10 @@ mod tests {
         .unwrap();
         assert_eq!(k, 5, "every repeat runs");
         assert_eq!(row.integration_seconds, 2.0);
+        assert_eq!(
+            (row.time_min, row.time_median, row.time_max),
+            (0.5, 2.0, 40.0)
+        );
         assert_eq!(row.wall_seconds, Some(4.0));
         assert_eq!(
             (row.steps, row.rhs_evals),

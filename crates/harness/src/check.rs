@@ -274,15 +274,11 @@ impl Check {
         observer: &mut dyn Observer,
     ) -> Result<CheckReport, HarnessError> {
         check_lengths(times, states)?;
-        let mut start_error = None;
-        for (t, s) in times.iter().zip(states) {
-            if observer.should_stop() {
-                self.analysis.mark_incomplete();
-                break;
-            }
-            let e = self.analysis.sample(t, s, observer)?;
-            start_error.get_or_insert(e.state_error);
-        }
+        // Evaluated in parallel on the current rayon pool, recorded in time order.
+        let start_error = self
+            .analysis
+            .sample_all(times, states, observer)?
+            .map(|e| e.state_error);
         Ok(CheckReport {
             file: self.file,
             case: self.case,

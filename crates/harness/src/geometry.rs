@@ -387,15 +387,25 @@ impl Geometry {
         exact: &State<Float>,
         state_error: f64,
     ) -> SampleGeometry {
+        let g = self.geometry_of(t, state, exact);
+        self.absorb(t.to_f64(), &g, state_error);
+        g
+    }
+
+    /// The geometry of a sample, not yet recorded.
+    fn geometry_of(&self, t: &Float, state: &State<Float>, exact: &State<Float>) -> SampleGeometry {
         let psi_exact: [Float; 2] = std::array::from_fn(|i| {
             let p = self.nu[i].clone() * t + &self.psi0[i];
             let turns = (p.clone() / &self.two_pi).floor();
             p - turns * &self.two_pi
         });
-        let g = match &self.precision {
+        match &self.precision {
             Precision::F64(inner) => inner.sample(state, exact, &psi_exact),
             Precision::Mp(inner) => inner.sample(state, exact, &psi_exact),
-        };
+        }
+    }
+
+    fn absorb(&mut self, t: f64, g: &SampleGeometry, state_error: f64) {
         self.normal.distance_from_n.absorb(g.distance_from_n);
         self.normal.x_phi.absorb(g.x_phi);
         if let Some([p, q]) = g.phase_error {
@@ -404,8 +414,27 @@ impl Geometry {
             self.phase.dm = self.phase.dm.max(g.dm.abs());
             self.phase.dh = self.phase.dh.max(g.dh.abs());
         }
-        self.series.push(t.to_f64(), state_error, &g);
-        g
+        self.series.push(t, state_error, g);
+    }
+
+    /// The geometry of a sample computed apart from the samples before it, for a parallel
+    /// evaluation: `Some` in f64 (every sample is computed), `None` in MPFR (which samples are
+    /// computed depends on their index: use [`Geometry::sample`]).
+    pub fn evaluate(
+        &self,
+        t: &Float,
+        state: &State<Float>,
+        exact: &State<Float>,
+    ) -> Option<SampleGeometry> {
+        matches!(self.precision, Precision::F64(_)).then(|| self.geometry_of(t, state, exact))
+    }
+
+    /// Record the next sample's geometry from [`Geometry::evaluate`] (what
+    /// [`Geometry::sample`] does after computing it).
+    pub fn record(&mut self, t: f64, g: &SampleGeometry, state_error: f64) {
+        self.index += 1;
+        self.skipped = None;
+        self.absorb(t, g, state_error);
     }
 
     /// The summary: growth fits and what dominates the error.

@@ -24,13 +24,19 @@ pub mod bench;
 mod case;
 pub mod check;
 mod compare;
+pub mod convergence;
+pub mod digits;
+pub mod drift_growth;
+pub mod environment;
 pub mod events;
 pub mod geometry;
 pub mod growth;
 pub mod identify;
 pub mod integrator;
 mod metrics;
+pub mod proportionality;
 pub mod reference;
+pub mod rounded_reference;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
 pub use bench::{measure, measure_against, measure_integrator, BenchRow, Reference};
@@ -40,6 +46,11 @@ pub use compare::{
     check_finite_report, compare, compare_integrator, preflight, reference_bits,
     reference_bits_for, run_info, CompareOptions, DEFAULT_PIECES, REFERENCE_GUARD_BITS,
 };
+pub use convergence::{
+    convergence, fit_order, ConvergencePlan, ConvergenceReport, ConvergenceRow,
+    FixedStepIntegrator, FixedStepMethod, OrderFit,
+};
+pub use digits::CorrectDigits;
 pub use integrator::{check_times, Integrator, Propagated, Trajectory};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot};
 pub use rsts_dynamics::integrators::MethodConfig;

@@ -8,6 +8,8 @@ use rsts_dynamics::{Fields, Real, State};
 use rug::Float;
 use serde::Serialize;
 
+use crate::digits::CorrectDigits;
+use crate::drift_growth::DriftGrowth;
 use crate::geometry::{ErrorSplit, NormalSummary, PhaseErrorSummary};
 
 /// A state as plotted and logged (f64): orientation rows α, β, γ, ω, Ω = Qω and H, K, G.
@@ -70,6 +72,8 @@ pub struct Drift {
     pub constraints: f64,
     #[serde(rename = "off_N")]
     pub off_n: f64,
+    /// Growth laws of the drifts of H, K, G and the constraints (null until the run is done).
+    pub growth: Option<DriftGrowth>,
 }
 
 /// The result of a comparison (the JSON of `rsts compare`).
@@ -90,6 +94,9 @@ pub struct Report {
     pub max_state_error: f64,
     pub final_state_error: f64,
     pub max_orientation_error: f64,
+    /// Correct digits (Bari test set): `scd`, `mescd`, `scd_min`, `mescd_min`.
+    #[serde(flatten)]
+    pub correct_digits: CorrectDigits,
     pub drift: Drift,
     pub steps: u64,
     pub rejected_steps: u64,
@@ -132,11 +139,11 @@ impl Report {
     }
 }
 
-fn f3(v: &Vec3<Float>) -> [f64; 3] {
+fn f3<T: Real>(v: &Vec3<T>) -> [f64; 3] {
     v.clone().map(|x| x.to_f64())
 }
 
-fn snapshot(fields: &Fields<Float>, s: &State<Float>) -> StateSnapshot {
+fn snapshot<T: Real>(fields: &Fields<T>, s: &State<T>) -> StateSnapshot {
     let q = s.orientation();
     let ints = integrals(fields, s);
     StateSnapshot {
@@ -159,29 +166,30 @@ pub(crate) fn exact_state(e: &ExplicitState<Float>) -> State<Float> {
 }
 
 /// Constants of N the distance is measured against: r⁴m² (= K) and p²h + r⁴m (= 2G).
-pub(crate) struct ManifoldN {
-    pub k: Float,
-    pub p2: Float,
-    pub r4m: Float,
+#[derive(Clone)]
+pub(crate) struct ManifoldN<T = Float> {
+    pub k: T,
+    pub p2: T,
+    pub r4m: T,
 }
 
-/// Errors at one sample, at the reference precision (the one place where per-sample errors are
-/// computed; [`Report::absorb`] summarises them).
-pub(crate) fn sample_errors(
-    fields: &Fields<Float>,
-    n: &ManifoldN,
-    initial_integrals: &[Float; 3],
-    exact: &State<Float>,
-    integrated: &State<Float>,
+/// Errors at one sample, at the reference precision or in double-double for f64 data (the one
+/// place where per-sample errors are computed; [`Report::absorb`] summarises them).
+pub(crate) fn sample_errors<T: Real>(
+    fields: &Fields<T>,
+    n: &ManifoldN<T>,
+    initial_integrals: &[T; 3],
+    exact: &State<T>,
+    integrated: &State<T>,
 ) -> (SampleErrors, StateSnapshot, StateSnapshot) {
     let x = integrated.to_array();
     let y = exact.to_array();
     let state_error = (0..9)
         .map(|k| (x[k].clone() - &y[k]).abs())
-        .fold(Float::with_val(x[0].prec(), 0), |a, b| a.max_of(b));
-    let r: Mat3<Float> = mul_bt(&integrated.orientation(), &exact.orientation());
+        .fold(x[0].zero_like(), |a, b| a.max_of(b));
+    let r: Mat3<T> = mul_bt(&integrated.orientation(), &exact.orientation());
     let ints = integrals(fields, integrated);
-    let two = Float::with_val(x[0].prec(), 2);
+    let two = x[0].lit(2.0);
     let off_k = (ints.k.clone() - &n.k).abs();
     let off_g = (two * &ints.g - n.p2.clone() * &ints.h - &n.r4m).abs();
     let errors = SampleErrors {

@@ -3,6 +3,8 @@
 //!
 //! The closed form is evaluated at the requested digits (default 30) plus
 //! [`REFERENCE_GUARD_BITS`] and each value rounded once, to f64 or to the requested digits.
+//! For f64 output the rows come from the double-double closed form, correctly rounded
+//! ([`crate::rounded_reference`]): the same bits at a tenth of the cost.
 
 use rug::Float;
 
@@ -11,6 +13,7 @@ use rsts_dynamics::scalar::bits_for_digits;
 
 use crate::analysis::{Analysis, RunInfo};
 use crate::case::Case;
+use crate::rounded_reference::{integrals_on_n, DdReference, VALUES};
 use crate::{HarnessError, MAX_SAMPLES, REFERENCE_GUARD_BITS};
 
 /// Names of the 13 values of a row: t, the state (ω, α, β in the body frame), H, K, G.
@@ -74,6 +77,10 @@ pub struct ReferenceTable {
     analysis: Analysis,
     bits: u32,
     digits: Option<u32>,
+    /// The double-double closed form for f64 output.
+    fast: Option<DdReference>,
+    /// H, K, G of f64 output.
+    integrals_f64: [f64; 3],
 }
 
 impl ReferenceTable {
@@ -96,11 +103,53 @@ impl ReferenceTable {
             digits: digits.unwrap_or(15),
         };
         let analysis = Analysis::for_case(&case, bits, info)?;
-        Ok(Self {
+        let mut table = Self {
             analysis,
             bits,
             digits,
-        })
+            fast: None,
+            integrals_f64: integrals_on_n(&case),
+        };
+        if digits.is_none() {
+            table.fast = DdReference::new(&case, t_max, |t| table.mpfr_values(t));
+        }
+        Ok(table)
+    }
+
+    /// The state at t at the reference precision.
+    fn mpfr_values(&self, t: f64) -> [Float; VALUES] {
+        self.analysis
+            .exact_state(&Float::with_val(self.bits, t))
+            .to_array()
+    }
+
+    /// The row at `t` in f64 ([`COLUMNS`]): the state of [`Self::row`] rounded, bit for bit,
+    /// from the double-double closed form where Ziv's test decides every value (else from
+    /// MPFR); H, K, G the constants of N correctly rounded ([`integrals_on_n`]).
+    pub fn row_f64(&self, t: f64) -> Result<[f64; 13], String> {
+        let mut row = [t; 13];
+        match self.fast.as_ref().and_then(|f| f.rounded(t)) {
+            Some(v) => row[1..10].copy_from_slice(&v),
+            None => {
+                let r = self.row(t)?;
+                for k in 1..10 {
+                    row[k] = r[k].to_f64();
+                }
+            }
+        }
+        row[10..].copy_from_slice(&self.integrals_f64);
+        Ok(row)
+    }
+
+    /// The state at t from the double-double closed form rounded to f64, `None` where
+    /// Ziv's test leaves one undecided (or without a double-double motion).
+    pub fn dd_rounded(&self, t: f64) -> Option<[f64; VALUES]> {
+        self.fast.as_ref()?.rounded(t)
+    }
+
+    /// Whether f64 rows come from the double-double closed form.
+    pub fn has_dd(&self) -> bool {
+        self.fast.is_some()
     }
 
     /// The analysis holding the motion (its camera, fields).

@@ -9,6 +9,11 @@
 //! a Ctrl-C handler before exiting).
 //!
 //! [`check_writable`] tells, before long work starts, whether a target can be written.
+//!
+//! Atomic replace is for regular files only. A target that is a character device (`/dev/null`,
+//! `/dev/stdout` on a terminal) or a FIFO is never renamed over: the bytes are staged in the
+//! system's temporary directory and copied into it in place at the commit. Sockets and block
+//! devices are refused.
 
 use std::collections::BTreeSet;
 use std::ffi::OsString;
@@ -118,6 +123,59 @@ fn temporary_beside(target: &Path) -> io::Result<PathBuf> {
     Ok(parent_dir(target).join(tmp))
 }
 
+/// A target that is written in place (following symlinks): a character device or a FIFO.
+/// Sockets and block devices are refused; a regular file, a missing path or a directory is not
+/// special (`Ok(false)`).
+pub fn is_written_in_place(target: &Path) -> io::Result<bool> {
+    use std::os::unix::fs::FileTypeExt;
+    let Ok(meta) = fs::metadata(target) else {
+        return Ok(false);
+    };
+    let kind = meta.file_type();
+    let refused = if kind.is_socket() {
+        "a socket"
+    } else if kind.is_block_device() {
+        "a block device"
+    } else {
+        return Ok(kind.is_char_device() || kind.is_fifo());
+    };
+    Err(io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!(
+            "{} is {refused}: rsts writes regular files, character devices (such as /dev/null) and FIFOs",
+            target.display()
+        ),
+    ))
+}
+
+/// A character device or FIFO `target` can be opened for writing by this user (checked without
+/// opening it: opening a FIFO would wait for a reader).
+fn check_device_writable(target: &Path) -> io::Result<()> {
+    use std::os::unix::ffi::OsStrExt;
+    let c = std::ffi::CString::new(target.as_os_str().as_bytes())?;
+    // SAFETY: `c` is a valid NUL-terminated path.
+    if unsafe { libc::access(c.as_ptr(), libc::W_OK) } == 0 {
+        Ok(())
+    } else {
+        Err(context(
+            io::Error::last_os_error(),
+            format!("cannot write {}", target.display()),
+        ))
+    }
+}
+
+/// A fresh temporary name in the system's temporary directory for a target written in place.
+fn temporary_elsewhere(target: &Path) -> PathBuf {
+    let name = target
+        .file_name()
+        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    std::env::temp_dir().join(format!(
+        ".rsts-{name}.tmp-{}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ))
+}
+
 /// Prefix an I/O error with what was being done (the OS message, e.g. "No space left on device",
 /// is kept).
 fn context(e: io::Error, what: impl std::fmt::Display) -> io::Error {
@@ -129,6 +187,9 @@ fn context(e: io::Error, what: impl std::fmt::Display) -> io::Error {
 /// nearest existing ancestor, which must be a directory (the missing ones are created only when
 /// the file is written). Nothing is left behind, not even a directory.
 pub fn check_writable(target: &Path) -> io::Result<()> {
+    if is_written_in_place(target)? {
+        return check_device_writable(target);
+    }
     if target.is_dir() {
         return Err(io::Error::new(
             io::ErrorKind::InvalidInput,
@@ -179,28 +240,36 @@ pub fn check_writable_dir(dir: &Path) -> io::Result<()> {
     check_writable(&dir.join("probe"))
 }
 
-/// A file that appears at its path only when [`commit`](Self::commit)ted.
+/// A file that appears at its path only when [`commit`](Self::commit)ted (a character device
+/// or FIFO receives all the bytes only then, in place).
 #[derive(Debug)]
 pub struct AtomicFile {
     target: PathBuf,
     tmp: PathBuf,
     file: Option<BufWriter<File>>,
+    in_place: bool,
 }
 
 impl AtomicFile {
     /// Start writing `target` (its directory is created when missing). The target is not touched.
     pub fn create(target: impl AsRef<Path>) -> io::Result<Self> {
         let target = target.as_ref().to_path_buf();
+        let in_place = is_written_in_place(&target)?;
         if target.is_dir() {
             return Err(io::Error::new(
                 io::ErrorKind::InvalidInput,
                 format!("{} is a directory", target.display()),
             ));
         }
-        let dir = parent_dir(&target);
-        fs::create_dir_all(&dir)
-            .map_err(|e| context(e, format!("cannot create {}", dir.display())))?;
-        let tmp = temporary_beside(&target)?;
+        let tmp = if in_place {
+            check_device_writable(&target)?;
+            temporary_elsewhere(&target)
+        } else {
+            let dir = parent_dir(&target);
+            fs::create_dir_all(&dir)
+                .map_err(|e| context(e, format!("cannot create {}", dir.display())))?;
+            temporary_beside(&target)?
+        };
         let file = create_registered(&tmp, || {
             OpenOptions::new()
                 .read(true)
@@ -213,6 +282,7 @@ impl AtomicFile {
             target,
             tmp,
             file: Some(BufWriter::new(file)),
+            in_place,
         })
     }
 
@@ -235,6 +305,9 @@ impl AtomicFile {
         let result = (|| {
             w.flush()?;
             let f = w.into_inner().map_err(|e| e.into_error())?;
+            if self.in_place {
+                return copy_in_place(f, &target);
+            }
             f.sync_all()?;
             drop(f);
             fs::rename(&self.tmp, &target)?;
@@ -246,6 +319,9 @@ impl AtomicFile {
         })();
         match result {
             Ok(()) => {
+                if self.in_place {
+                    let _ = fs::remove_file(&self.tmp);
+                }
                 unregister(&self.tmp);
                 Ok(())
             }
@@ -256,6 +332,16 @@ impl AtomicFile {
             }
         }
     }
+}
+
+/// Copy the staged bytes of `staged` into the device or FIFO `target`, opened for writing
+/// without creating or truncating anything (a full device fails here: "No space left on
+/// device").
+fn copy_in_place(mut staged: File, target: &Path) -> io::Result<()> {
+    staged.seek(SeekFrom::Start(0))?;
+    let mut out = OpenOptions::new().write(true).open(target)?;
+    io::copy(&mut staged, &mut out)?;
+    out.flush()
 }
 
 impl Write for AtomicFile {

@@ -19,6 +19,7 @@ mod arrays;
 mod case;
 mod check;
 mod compare;
+mod convergence;
 mod events;
 mod identify;
 
@@ -111,6 +112,7 @@ fn _rsts(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(check::check, m)?)?;
+    m.add_function(wrap_pyfunction!(convergence::convergence, m)?)?;
     m.add_function(wrap_pyfunction!(events::events, m)?)?;
     Ok(())
 }

@@ -104,22 +104,53 @@ pub fn merge_dirs(
 }
 
 /// Start the report directory `dir` (written whole, see [`write_all`]): refused at once when it
-/// cannot be written, or when it exists and holds something other than a report (replacing the
-/// directory would delete those files).
+/// cannot be written, or when it exists and holds anything a report does not write (replacing the
+/// directory would delete it — the suite file itself, notes): the error names that file.
 fn report_dir(dir: &Path) -> Result<rsts_io::AtomicDir, ValidateError> {
     let io = |e: std::io::Error| ValidateError::Io(format!("--report {}: {e}", dir.display()));
     if dir.is_dir() {
-        let mut entries = std::fs::read_dir(dir).map_err(io)?;
-        if entries.next().is_some() && !dir.join("report.json").is_file() {
+        if let Some(foreign) = not_from_a_report(dir).map_err(io)? {
             return Err(ValidateError::Usage(format!(
-                "--report {}: the directory exists and is not a validation report (no report.json); \
-                 it is replaced whole when the report is written, so give a new or empty directory",
-                dir.display()
+                "--report {}: the directory holds {}, which a report does not write; the directory \
+                 is replaced whole when the report is written and it would be lost: give a new or \
+                 empty directory, or an earlier report",
+                dir.display(),
+                foreign.display()
             )));
         }
     }
     rsts_io::check_writable_dir(dir).map_err(io)?;
     rsts_io::AtomicDir::create(dir).map_err(io)
+}
+
+/// The first entry of `dir` that a report does not write (report.json, report.md, plots/*.svg,
+/// regular files only), or `None` when replacing `dir` loses nothing of the user's.
+fn not_from_a_report(dir: &Path) -> std::io::Result<Option<PathBuf>> {
+    let regular = |p: &Path| std::fs::symlink_metadata(p).is_ok_and(|m| m.is_file());
+    for entry in std::fs::read_dir(dir)? {
+        let p = entry?.path();
+        let name = p.file_name().unwrap_or_default().to_string_lossy();
+        let ours = match name.as_ref() {
+            "report.json" | "report.md" => regular(&p),
+            "plots" => {
+                if !std::fs::symlink_metadata(&p).is_ok_and(|m| m.is_dir()) {
+                    return Ok(Some(p));
+                }
+                for plot in std::fs::read_dir(&p)? {
+                    let q = plot?.path();
+                    if !(q.extension().is_some_and(|e| e == "svg") && regular(&q)) {
+                        return Ok(Some(q));
+                    }
+                }
+                true
+            }
+            _ => false,
+        };
+        if !ours {
+            return Ok(Some(p));
+        }
+    }
+    Ok(None)
 }
 
 /// Write report.json, report.md and the plots into the staging directory of `dir` and move it

@@ -316,6 +316,13 @@ impl Report {
             } else {
                 String::new()
             };
+            // A convergence run shows its observed order in the "the error is" column.
+            let order = r.convergence.as_ref().map(|f| {
+                format!(
+                    "observed order {:.3} ± {:.3} (steps {:.2e} to {:.2e})",
+                    f.order, f.order_stderr, f.window[0], f.window[1]
+                )
+            });
             let split = match (&r.error_split, &r.normal, &r.phase_error) {
                 (Some(s), Some(n), Some(p)) => {
                     let growth = if s.dominant == "departure from N" {
@@ -326,7 +333,7 @@ impl Report {
                     let g = growth.map(|g| format!(", {}", g.describe()));
                     format!("{}{} (N {})", s.dominant, g.unwrap_or_default(), n.kind)
                 }
-                _ => String::new(),
+                _ => order.unwrap_or_default(),
             };
             let result = match r.status {
                 Status::Pass => "pass".to_string(),
@@ -506,6 +513,7 @@ mod tests {
                 ..Figures::default()
             }),
             closed_form: None,
+            convergence: None,
             growth: GrowthFits::default(),
             series: Series::default(),
             normal: None,

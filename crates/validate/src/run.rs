@@ -7,7 +7,10 @@ use rsts_closed_form::TorusChoice;
 use rsts_dynamics::integrators::Tolerances;
 use rsts_external::Exec;
 use rsts_harness::geometry::{ErrorSplit, NormalSummary, PhaseErrorSummary};
-use rsts_harness::{compare_integrator, CompareOptions, Integrator, Observer, SampleRecord};
+use rsts_harness::{
+    compare_integrator, CompareOptions, ConvergencePlan, FixedStepMethod, Integrator, Observer,
+    OrderFit, SampleRecord,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::closed_form_check::{self, ClosedFormCheck};
@@ -139,6 +142,9 @@ pub struct RunResult {
     pub phase_error: Option<PhaseErrorSummary>,
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub error_split: Option<ErrorSplit>,
+    /// A convergence run: the observed order, its window and excluded steps.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub convergence: Option<OrderFit>,
     pub timing: Timing,
 }
 
@@ -222,6 +228,15 @@ fn judge(r: &mut RunResult) {
             String::new(),
         );
     }
+    if let (Some(min), Some(fit)) = (th.min_order, &r.convergence) {
+        // NaN fails.
+        if fit.order.is_nan() || fit.order < min {
+            fails.push(format!(
+                "observed order {:.3} ± {:.3} < min_order {min}",
+                fit.order, fit.order_stderr
+            ));
+        }
+    }
     r.status = if r.error.is_some() {
         Status::Error
     } else if fails.is_empty() {
@@ -237,6 +252,16 @@ pub fn execute(run: &Run) -> RunResult {
     let started = Instant::now();
     let (method, rtol, digits) = match &run.kind {
         RunKind::ClosedForm => ("closed-form".to_string(), None, None),
+        RunKind::Convergence {
+            method,
+            order,
+            digits,
+            ..
+        } => (
+            order.map_or(method.clone(), |p| format!("{method}-p{p}")),
+            None,
+            *digits,
+        ),
         RunKind::External {
             method,
             rtol,
@@ -275,8 +300,21 @@ pub fn execute(run: &Run) -> RunResult {
         normal: None,
         phase_error: None,
         error_split: None,
+        convergence: None,
         timing: Timing::default(),
     };
+    if let RunKind::Convergence {
+        method,
+        steps,
+        order,
+        ..
+    } = &run.kind
+    {
+        convergence_run(run, method, steps, *order, &mut r);
+        judge(&mut r);
+        r.timing.wall_seconds = started.elapsed().as_secs_f64();
+        return r;
+    }
     let external = match &run.kind {
         RunKind::External {
             method,
@@ -311,6 +349,34 @@ pub fn execute(run: &Run) -> RunResult {
     judge(&mut r);
     r.timing.wall_seconds = started.elapsed().as_secs_f64();
     r
+}
+
+/// A convergence run: the method at the fixed steps, its order fitted.
+fn convergence_run(
+    run: &Run,
+    method: &str,
+    steps: &[f64],
+    order: Option<usize>,
+    r: &mut RunResult,
+) {
+    let result = method
+        .parse::<rsts_dynamics::integrators::MethodName>()
+        .map_err(|e| e.to_string())
+        .and_then(|m| {
+            let digits = r
+                .digits
+                .unwrap_or(rsts_dynamics::integrators::DEFAULT_MP_DIGITS);
+            FixedStepMethod::new(m, order, digits)
+        })
+        .and_then(|mut method| {
+            let plan =
+                ConvergencePlan::new(run.harness_case(), steps).map_err(|e| e.to_string())?;
+            rsts_harness::convergence(&plan, &mut [&mut method]).map_err(|e| e.to_string())
+        });
+    match result {
+        Ok(mut report) => r.convergence = report.fits.pop(),
+        Err(e) => r.error = Some(e),
+    }
 }
 
 /// An adapter's integrator.

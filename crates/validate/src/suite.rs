@@ -37,6 +37,9 @@ pub struct Thresholds {
     /// Closed-form check: max Euler–Poisson residual at 50 digits.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub closed_form_residual: Option<f64>,
+    /// Convergence runs: the observed order must be at least this.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_order: Option<f64>,
 }
 
 impl Thresholds {
@@ -51,6 +54,7 @@ impl Thresholds {
             max_off_n: self.max_off_n.or(base.max_off_n),
             closed_form_f64: self.closed_form_f64.or(base.closed_form_f64),
             closed_form_residual: self.closed_form_residual.or(base.closed_form_residual),
+            min_order: self.min_order.or(base.min_order),
         }
     }
 
@@ -62,6 +66,7 @@ impl Thresholds {
             ("max_off_n", self.max_off_n),
             ("closed_form_f64", self.closed_form_f64),
             ("closed_form_residual", self.closed_form_residual),
+            ("min_order", self.min_order),
         ] {
             if let Some(v) = v {
                 if !(v.is_finite() && v > 0.0) {
@@ -149,8 +154,21 @@ pub struct CaseSpec {
     pub digits: Option<u32>,
     pub step: Option<f64>,
     pub closed_form: Option<bool>,
+    /// A convergence case: the methods at these fixed steps, the observed order fitted
+    /// (`rsts convergence`); held by `min_order`.
+    pub convergence: Option<ConvergenceSpec>,
     #[serde(default)]
     pub thresholds: Thresholds,
+}
+
+/// `convergence = { steps = [...], order = P }` of a case.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConvergenceSpec {
+    /// The fixed steps (at least 3; each made a whole fraction of the sample spacing).
+    pub steps: Vec<f64>,
+    /// Order of the Taylor methods.
+    pub order: Option<usize>,
 }
 
 /// An external integrator of a suite (`[adapters.NAME]`), used by its name in `methods` like a
@@ -196,6 +214,15 @@ pub enum RunKind {
     },
     /// The closed form in f64 against itself at 50 digits, and its Euler–Poisson residual.
     ClosedForm,
+    /// A built-in method at fixed steps: its observed order (`rsts convergence`).
+    Convergence {
+        method: String,
+        steps: Vec<f64>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        order: Option<usize>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        digits: Option<u32>,
+    },
     /// An external integrator (`[adapters.NAME]`) against the closed form.
     External {
         method: String,
@@ -248,7 +275,9 @@ impl Run {
     /// The method config of an integrator run.
     pub fn method_config(&self) -> Result<Option<MethodConfig>, ValidateError> {
         match &self.kind {
-            RunKind::ClosedForm | RunKind::External { .. } => Ok(None),
+            RunKind::ClosedForm | RunKind::External { .. } | RunKind::Convergence { .. } => {
+                Ok(None)
+            }
             RunKind::Integrator {
                 method,
                 rtol,
@@ -293,6 +322,10 @@ pub struct Suite {
 
 /// Largest number of samples of one run (every sample is kept for the fits).
 pub const MAX_SAMPLES: usize = 1_000_000;
+/// Most runs a suite may expand to (refused at once above it: the runs are held in memory).
+pub const MAX_RUNS: usize = 20_000;
+/// Largest suite file read (bytes).
+pub const MAX_SUITE_BYTES: u64 = 4 * 1024 * 1024;
 
 /// Default thresholds of the closed-form check (f64 against 50 digits; residual at 50 digits).
 pub const DEFAULT_CLOSED_FORM_F64: f64 = 1e-12;
@@ -315,8 +348,22 @@ impl Suite {
         path: &Path,
         exec: Option<(&str, &AdapterSpec)>,
     ) -> Result<Suite, ValidateError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| ValidateError::Io(format!("cannot read suite {}: {e}", path.display())))?;
+        let cannot = |e: std::io::Error| {
+            ValidateError::Io(format!("cannot read suite {}: {e}", path.display()))
+        };
+        let file = std::fs::File::open(path).map_err(cannot)?;
+        let mut text = String::new();
+        std::io::Read::read_to_string(
+            &mut std::io::Read::take(file, MAX_SUITE_BYTES + 1),
+            &mut text,
+        )
+        .map_err(cannot)?;
+        if text.len() as u64 > MAX_SUITE_BYTES {
+            return Err(ValidateError::Suite(format!(
+                "{}: larger than {MAX_SUITE_BYTES} bytes (4 MiB), the most a suite file may have; split it",
+                path.display()
+            )));
+        }
         let fallback = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
@@ -325,7 +372,8 @@ impl Suite {
             .map_err(|e| ValidateError::Suite(format!("{}: {e}", path.display())))
     }
 
-    /// [`Suite::parse`], with every case's methods replaced by the adapter `exec` when given.
+    /// [`Suite::parse`], with every case's methods replaced by the adapter `exec` when given
+    /// (the convergence cases, which hold built-in methods' orders, are then left out).
     pub fn parse_with(
         text: &str,
         fallback_name: &str,
@@ -335,6 +383,8 @@ impl Suite {
             toml::from_str(text).map_err(|e| ValidateError::Suite(format!("{e}")))?;
         if let Some((name, adapter)) = exec {
             file.adapters.insert(name.to_string(), adapter.clone());
+            // Convergence cases hold the built-ins' orders (their min_order is a built-in's).
+            file.cases.retain(|case| case.convergence.is_none());
             file.defaults.methods = Some(vec![name.to_string()]);
             for case in &mut file.cases {
                 case.methods = Some(vec![name.to_string()]);
@@ -361,11 +411,8 @@ impl Suite {
                 )));
             }
             if let Some(t) = adapter.timeout {
-                if !(t.is_finite() && t > 0.0) {
-                    return Err(ValidateError::Suite(format!(
-                        "adapter '{name}': timeout must be a positive number of seconds, got {t}"
-                    )));
-                }
+                rsts_external::check_timeout(t)
+                    .map_err(|e| ValidateError::Suite(format!("[adapters.{name}] timeout: {e}")))?;
             }
         }
         let mut runs = Vec::new();
@@ -378,6 +425,9 @@ impl Suite {
                 )));
             }
             runs.extend(expand_case(&file.defaults, &file.adapters, spec)?);
+            if runs.len() > MAX_RUNS {
+                return Err(too_many_runs(runs.len(), &spec.name));
+            }
         }
         runs.sort_by(|x, y| x.id.cmp(&y.id));
         for w in runs.windows(2) {
@@ -395,6 +445,13 @@ impl Suite {
             runs,
         })
     }
+}
+
+/// A suite that expands to more than [`MAX_RUNS`] runs (counted up to case `name`).
+fn too_many_runs(runs: usize, name: &str) -> ValidateError {
+    ValidateError::Suite(format!(
+        "the suite expands to {runs} runs by case '{name}', more than the {MAX_RUNS} a suite may have; split it into several suites (or shards of one)"
+    ))
 }
 
 /// FNV-1a, 64 bits.
@@ -627,16 +684,27 @@ fn expand_case(
     let digits = spec.digits.or(defaults.digits);
     let step = spec.step.or(defaults.step);
     let closed_form = spec.closed_form.or(defaults.closed_form).unwrap_or(true);
-    if methods.is_empty() && !closed_form {
+    if methods.is_empty() {
         return Err(e(
-            "no methods and closed_form = false: nothing to run".into()
+            "methods is an empty list: name at least one (leave methods out for dop853)".into(),
         ));
     }
-    if !methods.is_empty() && tolerances.is_empty() {
+    if tolerances.is_empty() {
         return Err(e("tolerances is an empty list".into()));
+    }
+    let count = tori
+        .len()
+        .saturating_mul(usize::from(closed_form) + methods.len().saturating_mul(tolerances.len()));
+    if count > MAX_RUNS {
+        return Err(too_many_runs(count, &spec.name));
     }
     let mut thresholds = spec.thresholds.over(defaults.thresholds);
     thresholds.check(&what)?;
+    if thresholds.min_order.is_some() && spec.convergence.is_none() {
+        return Err(e(
+            "min_order holds convergence cases only (give convergence = { steps = [...] })".into(),
+        ));
+    }
     if thresholds.closed_form_f64.is_none() {
         thresholds.closed_form_f64 = Some(DEFAULT_CLOSED_FORM_F64);
     }
@@ -666,6 +734,10 @@ fn expand_case(
                 id: format!("{}/t{torus}/closed-form", spec.name),
                 ..base.clone()
             });
+        }
+        if let Some(conv) = &spec.convergence {
+            runs.extend(convergence_runs(&base, &methods, conv, digits).map_err(e)?);
+            continue;
         }
         for method in &methods {
             if let Some(adapter) = adapters.get(method) {
@@ -716,6 +788,39 @@ fn expand_case(
                 });
             }
         }
+    }
+    Ok(runs)
+}
+
+/// The runs of a convergence case on one torus: each built-in method at the fixed steps, checked
+/// here (the steps against the grid, the Taylor order) so a bad case is a suite error.
+fn convergence_runs(
+    base: &Run,
+    methods: &[String],
+    conv: &ConvergenceSpec,
+    digits: Option<u32>,
+) -> Result<Vec<Run>, String> {
+    let plan = rsts_harness::ConvergencePlan::new(base.harness_case(), &conv.steps)
+        .map_err(|err| format!("convergence: {err}"))?;
+    let mut runs = Vec::new();
+    for method in methods {
+        let name: MethodName = method.parse().map_err(|err| {
+            format!("convergence: {err} (convergence cases take built-in methods)")
+        })?;
+        let d = digits.unwrap_or(rsts_dynamics::integrators::DEFAULT_MP_DIGITS);
+        let fixed = rsts_harness::FixedStepMethod::new(name, conv.order, d)
+            .map_err(|err| format!("convergence: {err}"))?;
+        use rsts_harness::FixedStepIntegrator;
+        runs.push(Run {
+            id: format!("{}/t{}/{}/order", base.case, base.torus, fixed.name()),
+            kind: RunKind::Convergence {
+                method: name.as_str().to_string(),
+                steps: plan.steps.clone(),
+                order: fixed.order,
+                digits: (name == MethodName::TaylorMp).then_some(d),
+            },
+            ..base.clone()
+        });
     }
     Ok(runs)
 }

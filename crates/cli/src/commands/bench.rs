@@ -19,7 +19,11 @@ use rsts_harness::{
     measure_against, measure_integrator, preflight, reference_bits, reference_bits_for, BenchRow,
     Case, Integrator, Reference,
 };
-use rsts_plots::{Chart, Scale, Series, Style};
+
+mod plots;
+
+use rsts_harness::environment::Environment;
+use rsts_harness::proportionality::{fit_tolerances, ToleranceFit};
 
 use rsts_harness::bench::run_once;
 use rsts_harness::events::events_of_run;
@@ -38,6 +42,14 @@ Examples:
   # f64 methods, JSON rows and a work-precision diagram
   rsts bench --methods dop853,dopri5,taylor-f64 --tolerances 1e-8,1e-10,1e-12,1e-14,1e-15 \\
       --format json --svg out/wp-f64.svg
+
+  # cost in right-hand-side evaluations rather than seconds (fair to a Python integrator)
+  rsts bench --methods dop853,taylor-f64 --cost rhs-evals --repeats 1 --svg out/wp-evals.svg
+
+  # tolerance proportionality: max error = C tol^p fitted per method, a line per method in the
+  # table, fits in the JSON, points and fitted lines in the SVG
+  rsts bench --methods dop853,dopri5,taylor-f64 --tolerances 1e-6,1e-8,1e-10,1e-12,1e-14 \
+      --repeats 1 --svg-tolerance out/tolerance.svg
 
   # extended and multiple precision (taylor-mp at 90 digits)
   rsts bench --methods taylor-dd,taylor-mp --digits 90 --tolerances 1e-20,1e-30,1e-50,1e-80
@@ -99,6 +111,15 @@ pub struct Args {
     /// Write the work-precision diagram (max error against seconds, log-log) to this SVG file
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
+    /// The cost the work-precision diagram draws against the error (its vertical axis):
+    /// seconds favour compiled code over a Python integrator, evaluations and steps do not.
+    /// The table shows all three
+    #[arg(long, visible_alias = "x-axis", value_enum, value_name = "COST", default_value_t = Cost::Seconds)]
+    pub cost: Cost,
+    /// Write the tolerance-proportionality diagram (max error against tolerance, log-log, with
+    /// each method's fitted C·tol^p) to this SVG file
+    #[arg(long, value_name = "FILE")]
+    pub svg_tolerance: Option<PathBuf>,
     /// Output format
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
@@ -107,6 +128,33 @@ pub struct Args {
 impl Args {
     fn case(&self) -> Case {
         self.case.case(self.t_end, self.samples)
+    }
+}
+
+/// The cost axis of the work-precision diagram.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Cost {
+    Seconds,
+    RhsEvals,
+    Steps,
+}
+
+impl Cost {
+    /// The cost of a row.
+    fn of(&self, row: &BenchRow) -> f64 {
+        match self {
+            Cost::Seconds => row.integration_seconds,
+            Cost::RhsEvals => row.rhs_evals as f64,
+            Cost::Steps => row.steps as f64,
+        }
+    }
+
+    fn label(&self, repeats: usize) -> String {
+        match self {
+            Cost::Seconds => format!("integration seconds (median of {repeats})"),
+            Cost::RhsEvals => "right-hand-side evaluations".into(),
+            Cost::Steps => "accepted steps".into(),
+        }
     }
 }
 
@@ -119,14 +167,17 @@ struct Document<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     taylor_mp_digits: Option<u32>,
     rows: &'a [BenchRow],
+    /// Tolerance proportionality per method (two tolerances or more).
+    fits: &'a [ToleranceFit],
+    environment: &'a Environment,
 }
 
 /// A row with how it is labelled and drawn.
-struct Labelled {
-    row: BenchRow,
-    label: String,
+pub(crate) struct Labelled {
+    pub(crate) row: BenchRow,
+    pub(crate) label: String,
     /// An external integrator (drawn dashed).
-    external: bool,
+    pub(crate) external: bool,
 }
 
 /// Default digits of taylor-mp for the smallest tolerance `tol`.
@@ -195,6 +246,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if let Some(path) = &args.svg {
         rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
     }
+    if let Some(path) = &args.svg_tolerance {
+        rsts_io::check_writable(path)
+            .with_context(|| format!("--svg-tolerance {}", path.display()))?;
+    }
     let smallest = args
         .tolerances
         .iter()
@@ -215,18 +270,23 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let mut jobs = Vec::new();
     for &method in &methods {
         for &tol in &args.tolerances {
-            let tolerances = Tolerances::new(tol, tol)?;
-            let mut config = MethodConfig::new(method, tolerances, None)?;
+            // The method's round-off, asked of a config at a tolerance it accepts (it refuses
+            // one below its round-off, which bench skips instead).
+            let mut probe = MethodConfig::new(method, Tolerances::new(1.0, 1.0)?, None)?;
             if method == MethodName::TaylorMp {
-                config = config.with_digits(mp_digits).context("--digits")?;
+                probe = probe.with_digits(mp_digits).context("--digits")?;
             }
-            let unit = config.min_tolerance();
+            let unit = probe.min_tolerance();
             if tol < unit {
                 eprintln!(
                     "note: skipping {} at tolerance {tol:e}: below its unit round-off {unit:.2e}",
                     label_of(method, mp_digits)
                 );
                 continue;
+            }
+            let mut config = MethodConfig::new(method, Tolerances::new(tol, tol)?, None)?;
+            if method == MethodName::TaylorMp {
+                config = config.with_digits(mp_digits).context("--digits")?;
             }
             jobs.push(config);
         }
@@ -265,6 +325,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     if let Some(path) = &args.svg {
         rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
+    }
+    if let Some(path) = &args.svg_tolerance {
+        rsts_io::check_writable(path)
+            .with_context(|| format!("--svg-tolerance {}", path.display()))?;
     }
 
     let bar = ProgressBar::with_draw_target(
@@ -364,13 +428,21 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             );
         }
     }
+    let plain: Vec<BenchRow> = rows.iter().map(|l| l.row.clone()).collect();
+    let fits = fit_tolerances(&plain);
+    let environment = Environment::detect();
     if let Some(path) = &args.svg {
-        let svg = render(&case, args.repeats, &rows)?;
+        let svg = plots::render(&case, args.repeats, &rows, args.cost)?;
         rsts_io::write_atomic(path, svg.as_bytes())
             .with_context(|| format!("--svg {}", path.display()))?;
         eprintln!("work-precision diagram: {}", path.display());
     }
-    let plain: Vec<BenchRow> = rows.iter().map(|l| l.row.clone()).collect();
+    if let Some(path) = &args.svg_tolerance {
+        let svg = plots::render_tolerance(&case, &rows, &fits)?;
+        rsts_io::write_atomic(path, svg.as_bytes())
+            .with_context(|| format!("--svg-tolerance {}", path.display()))?;
+        eprintln!("tolerance-proportionality diagram: {}", path.display());
+    }
     match args.format {
         Format::Json => output::write_json(
             out,
@@ -379,6 +451,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 repeats: args.repeats,
                 taylor_mp_digits: uses_mp.then_some(mp_digits),
                 rows: &plain,
+                fits: &fits,
+                environment: &environment,
             },
         )?,
         Format::Csv => output::write_records_csv(out, &plain)?,
@@ -388,7 +462,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 "a = {}, b = {}, m = {}, h = {}, torus {}, T = {}, {} samples; time: median of {} runs",
                 case.a, case.b, case.m, case.h, case.torus, case.t_end, case.samples, args.repeats
             )?;
+            writeln!(out, "{}", environment.describe())?;
             output::write_table(out, &table(&rows))?;
+            for f in &fits {
+                let label = rows
+                    .iter()
+                    .find(|l| l.row.method == f.method)
+                    .map_or(f.method.as_str(), |l| l.label.as_str());
+                writeln!(out, "fit {label}: {}", f.describe())?;
+            }
         }
     }
     if let Some(limit) = args.max_event_error {
@@ -456,7 +538,9 @@ fn table(rows: &[Labelled]) -> Tabular {
         "method",
         "tolerance",
         "max error",
-        "seconds",
+        "scd min",
+        "mescd min",
+        "seconds (min..max)",
         "steps",
         "rhs evals",
     ];
@@ -470,7 +554,12 @@ fn table(rows: &[Labelled]) -> Tabular {
             Cell::Text(l.label.clone()),
             Cell::Text(format!("{:e}", r.tolerance)),
             Cell::Text(format!("{:.2e}", r.max_error)),
-            Cell::Text(format!("{:.3e}", r.integration_seconds)),
+            Cell::Text(format!("{:.2}", r.correct_digits.scd_min)),
+            Cell::Text(format!("{:.2}", r.correct_digits.mescd_min)),
+            Cell::Text(format!(
+                "{:.3e} ({:.2e}..{:.2e})",
+                r.integration_seconds, r.time_min, r.time_max
+            )),
             Cell::Int(r.steps),
             Cell::Int(r.rhs_evals),
         ];
@@ -489,102 +578,6 @@ fn table(rows: &[Labelled]) -> Tabular {
     t
 }
 
-/// Colour of a series: a peer's method takes the colour of our method of the same precision.
-fn counterpart(label: &str) -> Option<&'static str> {
-    let rest = label.strip_prefix("heyoka-")?;
-    if rest.starts_with("f64") {
-        Some("taylor-f64")
-    } else if rest.starts_with("real128") {
-        Some("taylor-dd")
-    } else if rest.starts_with("mpfr") {
-        Some("taylor-mp")
-    } else {
-        None
-    }
-}
-
-/// Our series take the palette in order; a peer's series takes the colour of our method of the
-/// same precision ([`counterpart`]) unless another peer series has it, else the next free one.
-fn assign_colours(series: &mut [Series]) {
-    let palette = rsts_plots::PALETTE;
-    let mut used: Vec<usize> = Vec::new();
-    let mut colour_of: Vec<Option<usize>> = vec![None; series.len()];
-    for k in (0..series.len()).filter(|&k| !series[k].dashed) {
-        let c = (0..palette.len())
-            .map(|i| (k + i) % palette.len())
-            .find(|c| !used.contains(c));
-        colour_of[k] = c.or(Some(k % palette.len()));
-        used.extend(colour_of[k]);
-    }
-    let mut taken_by_peer: Vec<usize> = Vec::new();
-    for k in 0..series.len() {
-        if !series[k].dashed {
-            continue;
-        }
-        let twin = counterpart(&series[k].label).and_then(|ours| {
-            series.iter().position(|s| {
-                !s.dashed && (s.label == ours || s.label.starts_with(&format!("{ours}-")))
-            })
-        });
-        let c = match twin.and_then(|j| colour_of[j]) {
-            Some(c) if !taken_by_peer.contains(&c) => c,
-            _ => (0..palette.len())
-                .find(|c| !used.contains(c))
-                .unwrap_or(k % palette.len()),
-        };
-        taken_by_peer.push(c);
-        used.push(c);
-        colour_of[k] = Some(c);
-    }
-    for (s, c) in series.iter_mut().zip(colour_of) {
-        s.color = c.map(|c| palette[c].to_string());
-    }
-}
-
-/// The work–precision diagram: one line per method, max error against seconds (log–log).
-fn render(case: &Case, repeats: usize, rows: &[Labelled]) -> anyhow::Result<String> {
-    let mut series: Vec<Series> = Vec::new();
-    // (tolerance, error, seconds) per series, drawn from loose to tight tolerance.
-    let mut points: Vec<Vec<(f64, f64, f64)>> = Vec::new();
-    for l in rows {
-        let k = match series.iter().position(|s| s.label == l.label) {
-            Some(k) => k,
-            None => {
-                let mut s = Series::new(l.label.clone(), Vec::new(), Style::LineMarkers);
-                s.dashed = l.external;
-                series.push(s);
-                points.push(Vec::new());
-                series.len() - 1
-            }
-        };
-        points[k].push((l.row.tolerance, l.row.max_error, l.row.integration_seconds));
-    }
-    for (s, mut p) in series.iter_mut().zip(points) {
-        p.sort_by(|a, b| b.0.total_cmp(&a.0));
-        // Each point labelled with its tolerance.
-        s.point_labels = p.iter().map(|(tol, _, _)| format!("{tol:e}")).collect();
-        s.points = p.into_iter().map(|(_, e, t)| (e, t)).collect();
-    }
-    assign_colours(&mut series);
-    let chart = Chart {
-        title: format!(
-            "Work–precision: a = {}, b = {}, m = {}, h = {}, T = {}",
-            case.a, case.b, case.m, case.h, case.t_end
-        ),
-        x_label: format!(
-            "max state error over {} samples (closed-form reference)",
-            case.samples
-        ),
-        y_label: format!("integration seconds (median of {repeats}); points: tolerance"),
-        x_scale: Scale::Log10,
-        y_scale: Scale::Log10,
-        series,
-        width: 820,
-        height: 540,
-    };
-    rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg: {e}"))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -594,41 +587,5 @@ mod tests {
         assert_eq!(default_mp_digits(1e-70), 80);
         assert_eq!(default_mp_digits(1e-8), 18);
         assert_eq!(default_mp_digits(0.5), 11);
-    }
-
-    #[test]
-    fn every_series_has_its_own_colour_and_a_peer_shares_its_twins() {
-        let mk = |label: &str, dashed: bool| {
-            let mut s = Series::new(label, vec![(1.0, 1.0)], Style::LineMarkers);
-            s.dashed = dashed;
-            s
-        };
-        let mut series = vec![
-            mk("dop853", false),
-            mk("taylor-f64", false),
-            mk("heyoka-f64", true),
-            mk("heyoka-f64-ha", true),
-            mk("other", true),
-        ];
-        assign_colours(&mut series);
-        let c: Vec<String> = series.iter().map(|s| s.color.clone().unwrap()).collect();
-        assert_eq!(c[2], c[1], "heyoka-f64 drawn like taylor-f64");
-        for i in 0..c.len() {
-            for j in 0..i {
-                assert!(
-                    i == 2 && j == 1 || c[i] != c[j],
-                    "{i} and {j} share {}",
-                    c[i]
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn peers_take_the_colour_of_our_method_of_the_same_precision() {
-        assert_eq!(counterpart("heyoka-f64"), Some("taylor-f64"));
-        assert_eq!(counterpart("heyoka-real128"), Some("taylor-dd"));
-        assert_eq!(counterpart("heyoka-mpfr-80d"), Some("taylor-mp"));
-        assert_eq!(counterpart("taylor-f64"), None);
     }
 }

@@ -38,7 +38,8 @@ Examples:
 
 FILE by extension: .csv (header t,omega1,omega2,omega3,alpha1,alpha2,alpha3,beta1,beta2,beta3;
 other columns ignored), .json ({\"samples\": [{\"t\", \"omega\", \"alpha\", \"beta\"}]}), .npy
-(float64, shape (N, 10)), .mcap (/integrated/state of an rsts log). Times strictly increasing,
+(float64, shape (N, 10), or (N, 13) as `rsts reference -o x.npy` writes it), .mcap
+(/integrated/state of an rsts log). Times strictly increasing,
 any spacing. Without --m/--h the motion is identified from the first row (which must lie on N).
 Values with at most 17 significant digits are read as f64; a file with longer values is read
 exactly at its precision. See docs/own-integrator.md.";
@@ -90,6 +91,8 @@ pub struct Args {
     /// Output format of the report
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
+    #[command(flatten)]
+    pub jobs: crate::jobs::JobsArgs,
 }
 
 /// The JSON of `rsts check`: the library's report and where the log went.
@@ -207,7 +210,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     };
     let stop = stop_on_ctrl_c();
     let mut observer = CliObserver::new(log, samples.times.len() as u64, stop);
-    let report = match start.run(&samples.times, &samples.states, &mut observer) {
+    let pool = args.jobs.pool()?;
+    let report = match pool.install(|| start.run(&samples.times, &samples.states, &mut observer)) {
         Ok(report) => report,
         Err(e) => {
             // A failed check discards its log: the temporary is removed, a previous file stays.

@@ -469,11 +469,18 @@ pub(crate) fn write_table(
             "max orientation error",
             format!("{} rad", e(r.max_orientation_error)),
         ),
+        ("correct digits", digits_line(&r.correct_digits)),
         (
             "drift of H, K, G",
             format!("{}, {}, {}", e(r.drift.h), e(r.drift.k), e(r.drift.g)),
         ),
         ("constraint drift", e(r.drift.constraints)),
+        (
+            "drift growth",
+            r.drift
+                .growth
+                .map_or_else(|| "-".to_string(), |g| g.describe()),
+        ),
         ("drift of on-N relations", e(r.drift.off_n)),
         (
             "steps (rejected)",
@@ -494,6 +501,24 @@ pub(crate) fn write_table(
     items.extend(geometry_lines(r));
     output::write_key_values(out, &items)?;
     Ok(())
+}
+
+/// `scd 9.81 (min 9.52), mescd 10.13 (min 9.84)`: at the last sample and the worst.
+fn digits_line(d: &rsts_harness::CorrectDigits) -> String {
+    let f = |x: f64| {
+        if x.is_finite() {
+            format!("{x:.2}")
+        } else {
+            "exact".to_string()
+        }
+    };
+    format!(
+        "scd {} (min {}), mescd {} (min {})",
+        f(d.scd),
+        f(d.scd_min),
+        f(d.mescd),
+        f(d.mescd_min)
+    )
 }
 
 /// The geometry of the error (docs/stability.md): distance from N, phase error, what dominates.

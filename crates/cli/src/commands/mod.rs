@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod check;
 pub mod compare;
+pub mod convergence;
 pub mod diagram;
 pub mod events;
 pub mod explicit;

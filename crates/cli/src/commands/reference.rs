@@ -14,6 +14,7 @@ use rsts_dynamics::integrators::OutputGrid;
 use rsts_harness::reference::{check_digits, ReferenceTable, COLUMNS};
 
 use crate::args::{case_error, count, finite_f64, CaseArgs, MAX_SAMPLES};
+use crate::jobs::{for_each_batch, JobsArgs};
 use crate::output;
 
 /// Shown at the end of `rsts reference --help`.
@@ -32,8 +33,10 @@ Examples:
 Columns: t, omega1..3, alpha1..3, beta1..3 (the state in the body frame), H, K, G. Without
 --digits the closed form is evaluated at 30 digits + 64 bits and rounded to f64 (17 significant
 digits, read back exactly); with --digits D every value carries D digits (CSV and JSON only).
-The state at the first time starts an integrator; `rsts check` compares its trajectory with
-this motion.";
+The f64 values come from the closed form in double-double, each checked to round to the same
+f64 as the MPFR value (else that row is computed in MPFR): the same bits, faster. Rows are
+computed on --jobs threads (default: every core) and written in order. The state at the first
+time starts an integrator; `rsts check` compares its trajectory with this motion.";
 
 /// Output formats of `rsts reference`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -73,6 +76,8 @@ pub struct Args {
     /// Write to FILE (whole or not at all) instead of stdout
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub jobs: JobsArgs,
 }
 
 /// Read a times file: numbers separated by whitespace, commas or newlines; `#` starts a comment.
@@ -141,35 +146,47 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if let Some(path) = &args.output {
         rsts_io::check_writable(path).with_context(|| format!("-o {}", path.display()))?;
     }
-    // One row at a time, at the reference precision (memory does not grow with the number of
-    // times).
+    let pool = args.jobs.pool()?;
+    // Rows in batches computed on every core and written in order (memory does not grow with
+    // the number of times). f64 rows come from the double-double closed form, correctly rounded.
     let row = |t: f64| table.row(t).map_err(|e| anyhow!(e));
+    let row_f64 = |t: f64| table.row_f64(t).map_err(|e| anyhow!(e));
     let text = |x: &Float| table.text(x);
+    // One sample of the JSON document.
+    let json_sample = |r: Vec<Value>| {
+        json!({
+            "t": r[0], "omega": r[1..4], "alpha": r[4..7], "beta": r[7..10],
+            "H": r[10], "K": r[11], "G": r[12],
+        })
+    };
+    // A row as the bytes of its format (npy: 13 little-endian f64; CSV: a line; JSON: a sample).
+    let encode = |&t: &f64| -> anyhow::Result<Vec<u8>> {
+        Ok(match (args.format, digits) {
+            (RefFormat::Npy, _) => row_f64(t)?.iter().flat_map(|x| x.to_le_bytes()).collect(),
+            (RefFormat::Csv, None) => {
+                let r: Vec<String> = row_f64(t)?.iter().map(|x| format!("{x:?}")).collect();
+                format!("{}\n", r.join(",")).into_bytes()
+            }
+            (RefFormat::Csv, Some(_)) => {
+                let r: Vec<String> = row(t)?.iter().map(text).collect();
+                format!("{}\n", r.join(",")).into_bytes()
+            }
+            (RefFormat::Json, None) => {
+                let r = row_f64(t)?.iter().map(|x| json!(x)).collect();
+                json_sample(r).to_string().into_bytes()
+            }
+            (RefFormat::Json, Some(_)) => {
+                let r = row(t)?.iter().map(|x| Value::String(text(x))).collect();
+                json_sample(r).to_string().into_bytes()
+            }
+        })
+    };
     let write = |w: &mut dyn Write| -> anyhow::Result<()> {
         match args.format {
-            RefFormat::Npy => {
-                w.write_all(&rsts_external::npy_header(times.len(), 13))?;
-                for &t in &times {
-                    for x in row(t)? {
-                        w.write_all(&x.to_f64().to_le_bytes())?;
-                    }
-                }
-            }
-            RefFormat::Csv => {
-                writeln!(w, "{}", COLUMNS.join(","))?;
-                for &t in &times {
-                    let r: Vec<String> = row(t)?.iter().map(text).collect();
-                    writeln!(w, "{}", r.join(","))?;
-                }
-            }
+            RefFormat::Npy => w.write_all(&rsts_external::npy_header(times.len(), 13))?,
+            RefFormat::Csv => writeln!(w, "{}", COLUMNS.join(","))?,
             RefFormat::Json => {
                 // One document, one sample per line, written as the samples are made.
-                let value = |x: &Float| -> Value {
-                    match digits {
-                        Some(_) => Value::String(text(x)),
-                        None => json!(x.to_f64()),
-                    }
-                };
                 let c = &case;
                 let head = [
                     ("a", json!(c.a)),
@@ -187,17 +204,22 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                     writeln!(w, "  {}: {},", json!(k), v)?;
                 }
                 write!(w, "  \"samples\": [")?;
-                for (k, &t) in times.iter().enumerate() {
-                    let r = row(t)?;
-                    let v3 = |r: &[Float]| r.iter().map(value).collect::<Vec<_>>();
-                    let sample = json!({
-                        "t": value(&r[0]), "omega": v3(&r[1..4]), "alpha": v3(&r[4..7]),
-                        "beta": v3(&r[7..10]), "H": value(&r[10]), "K": value(&r[11]), "G": value(&r[12]),
-                    });
-                    write!(w, "{}\n    {sample}", if k == 0 { "" } else { "," })?;
-                }
-                writeln!(w, "\n  ]\n}}")?;
             }
+        }
+        let mut k = 0;
+        for_each_batch(&pool, &times, encode, |rows| -> anyhow::Result<()> {
+            for r in rows {
+                let r = r?;
+                if args.format == RefFormat::Json {
+                    write!(w, "{}\n    ", if k == 0 { "" } else { "," })?;
+                }
+                w.write_all(&r)?;
+                k += 1;
+            }
+            Ok(())
+        })?;
+        if args.format == RefFormat::Json {
+            writeln!(w, "\n  ]\n}}")?;
         }
         Ok(())
     };

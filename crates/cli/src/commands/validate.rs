@@ -19,7 +19,7 @@ use crate::external::TimeoutArgs;
 /// Shown at the end of `rsts validate --help`.
 pub const EXAMPLES: &str = "\
 Examples:
-  # the CI suite (236 runs, seconds) on all cores: report in out/quick
+  # the CI suite (241 runs, seconds) on all cores: report in out/quick
   rsts validate --suite validation/quick.toml --report out/quick
 
   # again, with that report as the baseline: exit 1 names every run that regressed (on a busy
@@ -180,9 +180,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             let argv = rsts_external::split_command(command)
                 .map_err(|e| anyhow::anyhow!("--exec: {e}"))?;
             rsts_external::check_program(&argv[0]).map_err(|e| anyhow::anyhow!("--exec: {e}"))?;
-            if !(args.timeout.exec_timeout.is_finite() && args.timeout.exec_timeout > 0.0) {
-                bail!("--exec-timeout: must be a positive number of seconds");
-            }
+            rsts_external::check_timeout(args.timeout.exec_timeout)
+                .map_err(|e| anyhow::anyhow!("--exec-timeout: {e}"))?;
             Some((
                 args.exec_name.clone(),
                 AdapterSpec {

@@ -77,3 +77,52 @@ pub fn entries(d: &Path) -> Vec<String> {
     v.sort();
     v
 }
+
+/// The compiled example adapter: beside the rsts binary (built by `cargo test --workspace`), or
+/// built now into its own target directory.
+pub fn adapter_rk4() -> PathBuf {
+    let rsts = PathBuf::from(env!("CARGO_BIN_EXE_rsts"));
+    let beside = rsts.with_file_name("example-adapter-rk4");
+    if beside.exists() {
+        return beside;
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = root.join("target/adapter-build");
+    let status = Command::new(env!("CARGO"))
+        .args(["build", "--release", "--quiet", "-p", "example-adapter-rk4"])
+        .env("CARGO_TARGET_DIR", &dir)
+        .current_dir(&root)
+        .status()
+        .expect("run cargo");
+    assert!(status.success(), "cargo build -p example-adapter-rk4");
+    dir.join("release/example-adapter-rk4")
+}
+
+/// The Python of scripts/install_adapters.sh when it has `package` (`$RSTS_ADAPTERS_PYTHON` or
+/// `.venv-adapters/bin/python`); `None` (the test reports a skip) otherwise.
+pub fn python_with(package: &str, test: &str) -> Option<String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let python = std::env::var("RSTS_ADAPTERS_PYTHON").unwrap_or_else(|_| {
+        root.join(".venv-adapters/bin/python")
+            .to_string_lossy()
+            .into_owned()
+    });
+    let ok = Command::new(&python)
+        .args(["-c", &format!("import {package}")])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if ok {
+        Some(python)
+    } else {
+        rsts_io::report_skip(
+            test,
+            &format!("{package} is not installed (scripts/install_adapters.sh {package}; needs pip and PyPI)"),
+        );
+        None
+    }
+}
+
+pub fn adapter_command(python: &str, script: &str, arg: &str) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/adapters");
+    format!("{python} {} {arg}", root.join(script).display())
+}

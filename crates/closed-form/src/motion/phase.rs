@@ -16,7 +16,13 @@
 //!   to 2⁻¹¹⁷·|u̇t|). No allocation, about 20 floating-point operations instead of four MPFR
 //!   operations on 117-bit numbers with allocations (55–70 % of an f64 state before).
 //!   Larger or non-finite t go through MPFR.
+//! * **Double-double** ([`PhaseClock::reduced_dd`]), for the double-double closed form (clock
+//!   constants of 106 + 64 bits held to 159 bits in the same three f64): the same sum, returned
+//!   as a double-double (hi + lo) before its last rounding. Its error is a few units of 2⁻¹⁰⁶
+//!   of 4K plus 2⁻¹⁵⁹·|u̇t| (the dropped bits of the constants): 2⁻¹⁰³ for t ≤ 1e9.
 
+use rsts_dynamics::scalar::double_double::DD_BITS;
+use rsts_dynamics::scalar::DoubleDouble;
 use rug::Float;
 
 use crate::scalar::GUARD_BITS;
@@ -33,8 +39,10 @@ pub(super) struct PhaseClock {
     u0: [Float; 2],
     u_dot: [Float; 2],
     four_k: [Float; 2],
-    /// The same constants as f64 expansions (exact: 117 ≤ 159 bits), when bits ≤ 53 + 64.
+    /// The same constants as f64 expansions, when bits ≤ 106 + 64.
     fast: Option<[FastConstants; 2]>,
+    /// The expansions are exact (bits ≤ 53 + 64 ≤ 159): [`Self::reduced_f64`] may use them.
+    exact: bool,
 }
 
 /// One variable's constants as exact three-term f64 expansions.
@@ -80,8 +88,8 @@ fn dd_add((hi, lo): (f64, f64), x: f64) -> (f64, f64) {
 impl PhaseClock {
     /// The clock from constants computed at `bits` (= working bits + [`GUARD_BITS`]).
     pub(super) fn new(bits: u32, u0: [Float; 2], u_dot: [Float; 2], four_k: [Float; 2]) -> Self {
-        let exact_in_three = bits <= 53 + GUARD_BITS;
-        let fast = exact_in_three.then(|| {
+        let exact = bits <= 53 + GUARD_BITS;
+        let fast = (bits <= DD_BITS + GUARD_BITS).then(|| {
             std::array::from_fn(|i| FastConstants {
                 u0: split3(&u0[i]),
                 u_dot: split3(&u_dot[i]),
@@ -105,6 +113,7 @@ impl PhaseClock {
             u_dot,
             four_k,
             fast,
+            exact,
         }
     }
 
@@ -137,6 +146,24 @@ impl PhaseClock {
     /// else `f64::mul_add` in software: the same exact results.
     #[inline]
     pub(super) fn reduced_f64(&self, i: usize, t: f64) -> Option<f64> {
+        if !self.exact {
+            return None;
+        }
+        self.reduced_pair(i, t).map(|(hi, lo)| hi + lo)
+    }
+
+    /// u at time t reduced to [0, 4K) as a double-double, from the f64 expansions; `None` when
+    /// the clock has none (precision above double-double's) or t is not finite or beyond
+    /// [`F64_CLOCK_MAX_T`] (then use [`Self::reduced`]).
+    #[inline]
+    pub(super) fn reduced_dd(&self, i: usize, t: f64) -> Option<DoubleDouble> {
+        self.reduced_pair(i, t)
+            .map(|(hi, lo)| DoubleDouble::new(hi, lo))
+    }
+
+    /// The reduction as (hi, lo) before the last rounding: `hi + lo` in f64 is the f64 result.
+    #[inline]
+    fn reduced_pair(&self, i: usize, t: f64) -> Option<(f64, f64)> {
         let c = &self.fast.as_ref()?[i];
         if t.is_nan() || t.abs() > F64_CLOCK_MAX_T {
             return None;
@@ -153,21 +180,22 @@ impl PhaseClock {
 /// [`reduce`] compiled for CPUs with FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "fma")]
-unsafe fn reduce_fma(c: &FastConstants, t: f64) -> Option<f64> {
+unsafe fn reduce_fma(c: &FastConstants, t: f64) -> Option<(f64, f64)> {
     reduce(c, t)
 }
 
 /// [`reduce`] for any CPU.
-fn reduce_portable(c: &FastConstants, t: f64) -> Option<f64> {
+fn reduce_portable(c: &FastConstants, t: f64) -> Option<(f64, f64)> {
     reduce(c, t)
 }
 
-/// u₀ + u̇t − n·4K for the n that puts it in [0, 4K), rounded to f64: the large products exact
+/// u₀ + u̇t − n·4K for the n that puts it in [0, 4K), as (hi, lo) with hi + lo rounded to f64
+/// the f64 result: the large products exact
 /// (`two_prod`), their difference exact (`two_sum`), the other nine pieces added in
 /// double-double from large to small. `None` if n cannot be settled in three tries (a remainder
 /// within rounding of 0 or 4K: the caller then uses MPFR).
 #[inline(always)]
-fn reduce(c: &FastConstants, t: f64) -> Option<f64> {
+fn reduce(c: &FastConstants, t: f64) -> Option<(f64, f64)> {
     let [uh, um, ul] = c.u_dot;
     let [kh, km, kl] = c.four_k;
     let [oh, om, ol] = c.u0;
@@ -187,14 +215,15 @@ fn reduce(c: &FastConstants, t: f64) -> Option<f64> {
             acc = dd_add(acc, x);
         }
         let tail = ((e2 - f2) + (p3 - q3)) + ol;
-        let r = acc.0 + (acc.1 + tail);
+        let lo = acc.1 + tail;
+        let r = acc.0 + lo;
         if r < 0.0 {
             n -= 1.0;
         } else if r >= kh {
             // At least 4K to f64 accuracy: one more period.
             n += 1.0;
         } else {
-            return Some(r);
+            return Some((acc.0, lo));
         }
     }
     None

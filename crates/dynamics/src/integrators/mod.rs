@@ -7,16 +7,18 @@
 
 mod dop853;
 mod dopri5;
+mod fixed_step;
 mod ode_solvers_adapter;
 mod rk4;
 mod taylor;
 
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
+pub use fixed_step::{DormandPrince, FixedStepDormandPrince};
 pub use rk4::Rk4;
 pub use taylor::{
-    MpfrKernel, MpfrKernelChoice, SimdPath, Taylor, LANE_EXTRA_BITS, MAX_ORDER as TAYLOR_MAX_ORDER,
-    MPFR_MAX_DEFAULT_LIMBS, SIMD_ENV,
+    FixedOrderStep, MpfrKernel, MpfrKernelChoice, SimdPath, Taylor, LANE_EXTRA_BITS,
+    MAX_ORDER as TAYLOR_MAX_ORDER, MPFR_MAX_DEFAULT_LIMBS, SIMD_ENV,
 };
 
 use std::fmt;

@@ -215,6 +215,41 @@ macro_rules! dormand_prince_method {
             pub fn new(tolerances: $crate::integrators::Tolerances) -> Self {
                 Self { tolerances }
             }
+
+            /// `n` equal steps over s ∈ [0, 1] of `system` from `y0`, the step-size control
+            /// off (see [`super::fixed_step`]): the state at s = 1 and the counts.
+            pub(super) fn fixed_interval(
+                system: $crate::integrators::ode_solvers_adapter::EulerPoissonSystem,
+                y0: $crate::integrators::ode_solvers_adapter::Vector9,
+                n: u32,
+            ) -> Result<
+                ($crate::integrators::ode_solvers_adapter::Vector9, ode_solvers::dop_shared::Stats),
+                ode_solvers::dop_shared::IntegrationError,
+            > {
+                use $crate::integrators::ode_solvers_adapter as adapter;
+                let h = 1.0 / f64::from(n);
+                let mut solver = <$solver>::from_param(
+                    system,
+                    0.0,
+                    1.0,
+                    1.0,
+                    y0,
+                    0.0,
+                    adapter::FIXED_ATOL,
+                    1.0,
+                    $beta,
+                    1.0,
+                    1.0,
+                    h,
+                    h,
+                    n + adapter::FIXED_SPARE_STEPS,
+                    u32::MAX,
+                    ode_solvers::OutputType::Sparse,
+                );
+                let stats = solver.integrate()?;
+                let y = solver.y_out().last().cloned().unwrap_or(y0);
+                Ok((y, stats))
+            }
         }
 
         impl $crate::integrators::Propagator<f64> for $ty {
@@ -271,3 +306,10 @@ macro_rules! dormand_prince_method {
     };
 }
 pub(super) use dormand_prince_method;
+
+/// The absolute tolerance of a fixed-step run: so large that the error estimate is always
+/// ≪ 1, so every step is accepted; with fac_min = fac_max = 1 the next step equals the last.
+pub(super) const FIXED_ATOL: f64 = 1e300;
+/// Attempts beyond the n steps of a fixed-step interval before giving up (a NaN estimate is
+/// rejected forever with the same step: this stops it).
+pub(super) const FIXED_SPARE_STEPS: u32 = 4;

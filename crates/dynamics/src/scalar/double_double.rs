@@ -10,8 +10,8 @@
 //! * `sqrt`: one Newton step on the f64 square root (Karp's trick);
 //! * `exp`: reduction by m·ln 2 (ln 2 in three parts) and by 2⁻⁹, Taylor series of expm1,
 //!   nine squarings, scaling by 2^m;
-//! * `sin`, `cos`: reduction by j·π/2 (π/2 in three parts, exact products), Taylor series on
-//!   |r| ≤ π/4;
+//! * `sin`, `cos`: reduction by j·π/2 (π/2 in three parts, exact products), then by kπ/16
+//!   (a table of sin, cos kπ/16), Taylor series of sin on |t| ≤ π/32, cos t = √(1 − sin²t);
 //! * `ln`, `atan2`: one Newton step from the `f64` value (the error squares: 53 → 106 bits);
 //!   `ln` near 1 is accurate to ~1e-32 absolutely rather than relatively;
 //! * `parse` and `to_decimal` go through MPFR (`rug::Float`) at 256 bits, so decimal input is
@@ -216,35 +216,34 @@ impl DoubleDouble {
         r - Self::from_f64_exact(j * PI_2[2])
     }
 
-    /// (sin r, cos r) by Taylor series for |r| ≤ π/4.
-    fn sin_cos_taylor(r: Self) -> (Self, Self) {
+    /// (sin r, cos r) for |r| ≤ π/4: r = kπ/16 + t with |t| ≤ π/32, sin t by its Taylor
+    /// polynomial to t¹⁹ (Horner in t², coefficients 1/n! to 106 bits), cos t = √(1 − sin²t),
+    /// then the angle-sum formulas with sin, cos of kπ/16 from a table (QD's method).
+    fn sin_cos_reduced(r: Self) -> (Self, Self) {
         if r.is_zero() {
             return (r, Self::ONE);
         }
-        let r2 = r.sqr();
-        let mut term = r;
-        let mut sin = r;
-        let mut i = 1.0;
-        loop {
-            term = -(term * r2).div_f64((i + 1.0) * (i + 2.0));
-            sin += term;
-            i += 2.0;
-            if term.hi.abs() <= SERIES_CUTOFF * sin.hi.abs() {
-                break;
-            }
+        let tables = sin_cos_tables();
+        let k = (r.hi * (16.0 / std::f64::consts::PI)).round();
+        // π/16 in three parts (exact: π's parts scaled by 2⁻⁴).
+        let t = r - Self::prod_f64(k, PI[0] / 16.0);
+        let t = t - Self::prod_f64(k, PI[1] / 16.0);
+        let t = t - Self::from_f64_exact(k * (PI[2] / 16.0));
+        let t2 = t.sqr();
+        let c = &tables.inverse_factorials;
+        let mut p = c[c.len() - 1];
+        for ck in c.iter().rev().skip(1) {
+            p = p * t2 + *ck;
         }
-        let mut term = Self::ONE;
-        let mut cos = Self::ONE;
-        let mut i = 0.0;
-        loop {
-            term = -(term * r2).div_f64((i + 1.0) * (i + 2.0));
-            cos += term;
-            i += 2.0;
-            if term.hi.abs() <= SERIES_CUTOFF {
-                break;
-            }
+        let sin_t = t + t * t2 * p;
+        let cos_t = (Self::ONE - sin_t.sqr()).sqrt();
+        let j = k.abs() as usize;
+        if j == 0 {
+            return (sin_t, cos_t);
         }
-        (sin, cos)
+        let (sk, ck) = tables.sin_cos_k16[j - 1];
+        let sk = if k < 0.0 { -sk } else { sk };
+        (sk * cos_t + ck * sin_t, ck * cos_t - sk * sin_t)
     }
 
     /// (sin x, cos x).
@@ -254,7 +253,7 @@ impl DoubleDouble {
         }
         let j = (self.hi / PI_2[0]).round();
         let r = self.reduce_pi_2(j);
-        let (s, c) = Self::sin_cos_taylor(r);
+        let (s, c) = Self::sin_cos_reduced(r);
         match (j.rem_euclid(4.0)) as u32 {
             0 => (s, c),
             1 => (c, -s),
@@ -262,6 +261,41 @@ impl DoubleDouble {
             _ => (-c, s),
         }
     }
+}
+
+/// Constants of [`DoubleDouble::sin_cos`], computed once in MPFR.
+struct SinCosTables {
+    /// (−1)ⁿ/(2n + 1)! for n = 1…9 (the odd Taylor coefficients of sin from t³ to t¹⁹).
+    inverse_factorials: [DoubleDouble; 9],
+    /// (sin kπ/16, cos kπ/16) for k = 1…4.
+    sin_cos_k16: [(DoubleDouble, DoubleDouble); 4],
+}
+
+fn sin_cos_tables() -> &'static SinCosTables {
+    static TABLES: std::sync::OnceLock<SinCosTables> = std::sync::OnceLock::new();
+    TABLES.get_or_init(|| {
+        let bits = MPFR_BITS;
+        let inverse_factorials = std::array::from_fn(|i| {
+            let n = 2 * i as u32 + 3;
+            let mut f = Float::with_val(bits, 1);
+            for j in 2..=n {
+                f *= j;
+            }
+            let x = Float::with_val(bits, 1) / f;
+            let x = if i % 2 == 0 { -x } else { x };
+            DoubleDouble::from_float(&x)
+        });
+        let pi = Float::with_val(bits, rug::float::Constant::Pi);
+        let sin_cos_k16 = std::array::from_fn(|i| {
+            let a = Float::with_val(bits, &pi * (i as u32 + 1)) / 16u32;
+            let (s, c) = a.sin_cos(Float::new(bits));
+            (DoubleDouble::from_float(&s), DoubleDouble::from_float(&c))
+        });
+        SinCosTables {
+            inverse_factorials,
+            sin_cos_k16,
+        }
+    })
 }
 
 impl fmt::Display for DoubleDouble {

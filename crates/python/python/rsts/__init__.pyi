@@ -80,6 +80,18 @@ def check(
 ) -> Dict[str, Any]:
     """A trajectory (times, states) against the exact motion: `rsts check FILE --format json`."""
 
+def convergence(
+    methods: Sequence[str],
+    steps: Sequence[float],
+    case: Optional[Case] = None,
+    t_end: float = 10.0,
+    samples: int = 11,
+    order: Optional[int] = None,
+    digits: int = 40,
+) -> Dict[str, Any]:
+    """Built-in methods at fixed steps, their observed orders: `rsts convergence --format json`."""
+
+
 def events(
     names: Sequence[str],
     m: float = 0.3,

@@ -417,7 +417,8 @@ impl Taylor {
         name: &'static str,
         grid: &OutputGrid,
     ) -> Result<Option<FastOutput<K>>, DynamicsError> {
-        if !self.compensated {
+        // A fixed order and step runs on the generic stepper.
+        if !self.compensated || self.fixed.is_some() {
             return Ok(None);
         }
         let Some(layout) = Layout::from_table(table) else {

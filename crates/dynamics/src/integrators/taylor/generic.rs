@@ -167,8 +167,10 @@ pub(super) fn propagate<T: Real>(
     let grid = OutputGrid::new(grid.t_end, grid.samples)?;
     let like = problem.initial.omega[0].clone();
     let bits = like.prec();
-    let eps = taylor.effective_tolerance(bits)?;
-    let order = Taylor::order_for(eps);
+    let order = match taylor.fixed {
+        Some(fixed) => fixed.order,
+        None => Taylor::order_for(taylor.effective_tolerance(bits)?),
+    };
     let x0 = problem.initial.to_array();
     if x0.iter().any(|x| !x.is_finite()) {
         return Err(DynamicsError::State(
@@ -205,25 +207,30 @@ pub(super) fn propagate<T: Real>(
         stats.accepted_steps += 1;
         stats.rhs_evals += order as u64 + 1;
 
-        // Jorba–Zou step.
-        let ln_x = {
-            let mut norm = state[0].hi.abs();
-            for x in &state[1..] {
-                norm = norm.max_of(x.hi.abs());
-            }
-            let n = norm.to_f64();
-            if rtol * n > atol {
-                n.ln()
-            } else {
-                0.0
+        // Jorba–Zou step (or the fixed one).
+        let t_now = t.value().to_f64();
+        let mut h = match taylor.fixed {
+            Some(fixed) => fixed.step,
+            None => {
+                let ln_x = {
+                    let mut norm = state[0].hi.abs();
+                    for x in &state[1..] {
+                        norm = norm.max_of(x.hi.abs());
+                    }
+                    let n = norm.to_f64();
+                    if rtol * n > atol {
+                        n.ln()
+                    } else {
+                        0.0
+                    }
+                };
+                let rho = [order - 1, order]
+                    .into_iter()
+                    .map(|m| ((ln_x - work.ln_norm(m)) / m as f64).exp())
+                    .fold(f64::INFINITY, f64::min);
+                rho * safety
             }
         };
-        let rho = [order - 1, order]
-            .into_iter()
-            .map(|m| ((ln_x - work.ln_norm(m)) / m as f64).exp())
-            .fold(f64::INFINITY, f64::min);
-        let t_now = t.value().to_f64();
-        let mut h = rho * safety;
         if !h.is_finite() {
             // All coefficients vanish (an equilibrium): one step to the end.
             h = (grid.t_end - t_now).max(f64::MIN_POSITIVE);

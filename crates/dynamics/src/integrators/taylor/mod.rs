@@ -70,6 +70,18 @@ pub struct Taylor {
     /// The code path of the lane kernels (taylor-f64, taylor-dd); `None`: the one `RSTS_SIMD`
     /// names, else the best this CPU has ([`SimdPath`]).
     pub simd: Option<SimdPath>,
+    /// A fixed order p and step h instead of the Jorba–Zou rule (convergence studies: the
+    /// global error is then O(hᵖ)); the tolerances are not used. Runs on the generic stepper.
+    pub fixed: Option<FixedOrderStep>,
+}
+
+/// Order and step of a [`Taylor`] run without step-size control.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FixedOrderStep {
+    /// Degree p of the Taylor polynomial of each step (1 to [`MAX_ORDER`]).
+    pub order: usize,
+    /// The step h > 0, the same for every step.
+    pub step: f64,
 }
 
 impl Taylor {
@@ -83,7 +95,29 @@ impl Taylor {
             compensated: true,
             mpfr_kernel: None,
             simd: None,
+            fixed: None,
         }
+    }
+
+    /// The method at a fixed order p and step h (checked: 1 ≤ p ≤ [`MAX_ORDER`], h > 0
+    /// finite); see [`Taylor::fixed`].
+    pub fn fixed(order: usize, step: f64) -> Result<Self, DynamicsError> {
+        if !(1..=MAX_ORDER).contains(&order) {
+            return Err(DynamicsError::Settings(format!(
+                "order must be between 1 and {MAX_ORDER}, got {order}"
+            )));
+        }
+        if !(step.is_finite() && step > 0.0) {
+            return Err(DynamicsError::Settings(format!(
+                "step must be a positive finite number, got {}",
+                crate::short(step)
+            )));
+        }
+        let tolerances = Tolerances::new(1e-10, 1e-10)?;
+        Ok(Self {
+            fixed: Some(FixedOrderStep { order, step }),
+            ..Self::new(tolerances)
+        })
     }
 
     /// The same method with the given MPFR coefficient kernel (ignored by other scalars).

@@ -1,0 +1,457 @@
+//! Observed order of convergence (issue 18, `rsts convergence`): methods run at fixed steps
+//! along one motion, their error against the closed form per step, and the order p of
+//! error ≈ C·hᵖ fitted by least squares over the asymptotic window, found automatically.
+//!
+//! The window ([`fit_order`]): the local slopes between neighbouring steps (log error against
+//! log step) are computed; the window is the longest run of at least two neighbouring slopes that
+//! all lie within max(0.15, 0.05·|m|) of their median m (m ≥ 0.5: the error falls); on a tie the
+//! smaller steps win. Steps below the window are in the round-off floor (the error stops
+//! falling) or off the line; steps above it are pre-asymptotic — each listed with why.
+//!
+//! A step h is used as Δ/⌈Δ/h⌉ (Δ = T/(N−1), the sample spacing), so every sample is the end of
+//! a step; a row's `step` is the step used.
+
+use rug::Float;
+use serde::{Deserialize, Serialize};
+
+use rsts_dynamics::integrators::{
+    map_problem, map_solution, DormandPrince, FixedStepDormandPrince, MethodName, OutputGrid,
+    Problem, Propagator, Rk4, Taylor,
+};
+use rsts_dynamics::scalar::DoubleDouble;
+
+use crate::bench::{max_state_error, Reference};
+use crate::case::Case;
+use crate::compare::reference_bits_for;
+use crate::integrator::{Integrator, Propagated, Trajectory};
+use crate::HarnessError;
+
+/// An integrator that can be run at a fixed step (built-in: [`FixedStepMethod`]; an external
+/// process with `"step"` in its request).
+pub trait FixedStepIntegrator {
+    /// Name in the rows and fits.
+    fn name(&self) -> String;
+    /// How messages name it (default: its name; an external one adds its command).
+    fn label(&self) -> String {
+        self.name()
+    }
+    /// Bits of its scalar (the reference is evaluated beyond them).
+    fn working_bits(&self) -> u32;
+    /// The states at `times` (an even grid whose spacing is a whole multiple of `step`),
+    /// every step of length `step`.
+    fn integrate_at(
+        &mut self,
+        step: f64,
+        problem: &Problem<Float>,
+        times: &[f64],
+    ) -> Result<Trajectory, HarnessError>;
+}
+
+/// A built-in method at fixed steps: rk4, dopri5 and dop853 with the step control off, the
+/// Taylor methods at a fixed order.
+#[derive(Clone, Copy, Debug)]
+pub struct FixedStepMethod {
+    pub method: MethodName,
+    /// Order of the Taylor methods (required for them, refused for the others).
+    pub order: Option<usize>,
+    /// Digits of taylor-mp.
+    pub digits: u32,
+}
+
+impl FixedStepMethod {
+    /// Checked: the Taylor methods need an order, the others take none.
+    pub fn new(method: MethodName, order: Option<usize>, digits: u32) -> Result<Self, String> {
+        let taylor = matches!(
+            method,
+            MethodName::TaylorF64 | MethodName::TaylorDd | MethodName::TaylorMp
+        );
+        match (taylor, order) {
+            (true, None) => Err(format!(
+                "{method} at fixed steps needs a fixed order (--order P)"
+            )),
+            (true, Some(p)) => {
+                Taylor::fixed(p, 1.0).map_err(|e| e.to_string())?;
+                Ok(Self {
+                    method,
+                    order,
+                    digits,
+                })
+            }
+            (false, _) => Ok(Self {
+                method,
+                order: None,
+                digits,
+            }),
+        }
+    }
+}
+
+impl FixedStepIntegrator for FixedStepMethod {
+    fn name(&self) -> String {
+        match self.order {
+            Some(p) => format!("{}-p{p}", self.method),
+            None => self.method.to_string(),
+        }
+    }
+
+    fn working_bits(&self) -> u32 {
+        self.method.working_bits(self.digits)
+    }
+
+    fn integrate_at(
+        &mut self,
+        step: f64,
+        problem: &Problem<Float>,
+        times: &[f64],
+    ) -> Result<Trajectory, HarnessError> {
+        let dp = |m| -> Result<Trajectory, HarnessError> {
+            Propagated::new(FixedStepDormandPrince::new(m, step)?).integrate(problem, times)
+        };
+        let taylor = || Taylor::fixed(self.order.unwrap_or(0), step);
+        let bits = problem.initial.omega[0].prec();
+        let grid = grid_of(times)?;
+        match self.method {
+            MethodName::Rk4 => Propagated::new(Rk4::new(step)).integrate(problem, times),
+            MethodName::Dopri5 => dp(DormandPrince::Dopri5),
+            MethodName::Dop853 => dp(DormandPrince::Dop853),
+            MethodName::TaylorF64 => Propagated::new(taylor()?).integrate(problem, times),
+            MethodName::TaylorDd => {
+                let p = map_problem(problem, DoubleDouble::from_float);
+                let sol = taylor()?.propagate_grid(&p, &grid)?;
+                Ok(trajectory(map_solution(sol, |x| x.to_float(bits))))
+            }
+            MethodName::TaylorMp => {
+                let w = self.working_bits();
+                let p = map_problem(problem, |x| Float::with_val(w, x));
+                let sol = taylor()?.propagate_grid(&p, &grid)?;
+                Ok(trajectory(map_solution(sol, |x| Float::with_val(bits, x))))
+            }
+        }
+    }
+}
+
+fn trajectory(sol: rsts_dynamics::integrators::Solution<Float>) -> Trajectory {
+    Trajectory {
+        times: sol.times,
+        states: sol.states,
+        stats: sol.stats,
+        wall_seconds: None,
+    }
+}
+
+/// The even grid `times` is (from [`ConvergencePlan`]).
+fn grid_of(times: &[f64]) -> Result<OutputGrid, HarnessError> {
+    Ok(OutputGrid::new(
+        times.last().copied().unwrap_or(0.0),
+        times.len(),
+    )?)
+}
+
+/// Most steps of a whole sweep (every method and step).
+pub const MAX_SWEEP_STEPS: f64 = 1e9;
+
+/// What to run: a motion and the fixed steps (largest first, each a whole fraction of the
+/// sample spacing).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ConvergencePlan {
+    pub case: Case,
+    pub steps: Vec<f64>,
+}
+
+impl ConvergencePlan {
+    /// Checked: the case, T > 0, N ≥ 2, at least 3 distinct positive steps none above the
+    /// sample spacing Δ; each step becomes Δ/⌈Δ/h⌉.
+    pub fn new(case: Case, steps: &[f64]) -> Result<Self, HarnessError> {
+        case.validate()?;
+        if !(case.t_end > 0.0 && case.samples >= 2) {
+            return Err(HarnessError::Case(
+                "t-end must be positive with at least 2 samples for a convergence study".into(),
+            ));
+        }
+        let spacing = OutputGrid::new(case.t_end, case.samples)?.spacing();
+        let mut used: Vec<f64> = Vec::new();
+        for &h in steps {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(HarnessError::Case(format!(
+                    "steps must be positive finite numbers, got {h}"
+                )));
+            }
+            if h > spacing * (1.0 + 1e-12) {
+                return Err(HarnessError::Case(format!(
+                    "steps: {h} is larger than the sample spacing {} (t-end/(samples - 1)); \
+                     use fewer samples or smaller steps",
+                    rsts_dynamics::short(spacing)
+                )));
+            }
+            let e = spacing / (spacing / h).ceil().max(1.0);
+            if !used.contains(&e) {
+                used.push(e);
+            }
+        }
+        used.sort_by(|a, b| b.total_cmp(a));
+        if used.len() < 3 {
+            return Err(HarnessError::Case(format!(
+                "steps: an order is fitted over at least 3 distinct steps, got {} \
+                 (a step h is used as the sample spacing over a whole number of steps)",
+                used.len()
+            )));
+        }
+        let per_method: f64 = used.iter().map(|h| case.t_end / h).sum();
+        if per_method > MAX_SWEEP_STEPS {
+            return Err(HarnessError::Case(format!(
+                "steps: the sweep takes about {} steps per method, more than the limit of {}; \
+                 use larger steps or a shorter t-end",
+                rsts_dynamics::short(per_method),
+                rsts_dynamics::short(MAX_SWEEP_STEPS)
+            )));
+        }
+        Ok(Self { case, steps: used })
+    }
+}
+
+/// The steps H, H/2, …, H/2^K.
+pub fn halvings(step: f64, k: u32) -> Vec<f64> {
+    (0..=k).map(|j| step / 2f64.powi(j as i32)).collect()
+}
+
+/// One method at one step: a JSON row of `rsts convergence`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ConvergenceRow {
+    pub method: String,
+    /// The step used.
+    pub step: f64,
+    /// max over samples and the nine components of |x − x_exact|.
+    pub max_error: f64,
+    /// The same at the last sample.
+    pub final_error: f64,
+    pub steps: u64,
+    pub rhs_evals: u64,
+}
+
+/// A step left out of a fit, and why.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Excluded {
+    pub step: f64,
+    pub why: String,
+}
+
+/// The observed order of one method.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OrderFit {
+    pub method: String,
+    /// Slope p of log10(max_error) = log10(C) + p·log10(step), least squares over the window.
+    pub order: f64,
+    /// Its standard error (from the residuals; n − 2 degrees of freedom).
+    pub order_stderr: f64,
+    /// The smallest and largest step of the window.
+    pub window: [f64; 2],
+    /// log10(C) of the fitted line (drawn in diagrams; not in the JSON).
+    #[serde(skip)]
+    pub log10_constant: f64,
+    pub excluded: Vec<Excluded>,
+}
+
+/// The JSON document of `rsts convergence`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ConvergenceReport {
+    pub case: Case,
+    pub rows: Vec<ConvergenceRow>,
+    pub fits: Vec<OrderFit>,
+}
+
+/// Run every method at every step of `plan` and fit their orders. An integrator whose states do
+/// not change with the step (it ignored it) is refused, naming it.
+pub fn convergence(
+    plan: &ConvergencePlan,
+    methods: &mut [&mut dyn FixedStepIntegrator],
+) -> Result<ConvergenceReport, HarnessError> {
+    let bits = methods
+        .iter()
+        .map(|m| reference_bits_for(m.working_bits()))
+        .max()
+        .ok_or_else(|| HarnessError::Case("no method to run".into()))?;
+    let reference = Reference::new(&plan.case, bits)?;
+    let problem = Problem {
+        fields: reference.fields().clone(),
+        initial: reference.states()[0].clone(),
+    };
+    let last = reference.states().len() - 1;
+    let mut rows = Vec::new();
+    let mut fits = Vec::new();
+    for method in methods.iter_mut() {
+        let label = method.label();
+        let mut first: Option<Vec<_>> = None;
+        let mut changed = false;
+        let mut mine = Vec::new();
+        for &h in &plan.steps {
+            let traj = method
+                .integrate_at(h, &problem, reference.times())
+                .map_err(|e| {
+                    HarnessError::Integrator(format!("{} at step {h}: {e}", method.name()))
+                })?;
+            match &first {
+                None => first = Some(traj.states.clone()),
+                Some(f) => changed |= *f != traj.states,
+            }
+            let max_error = max_state_error(reference.states(), &traj.states)?;
+            let final_error = max_state_error(
+                &reference.states()[last..],
+                traj.states.get(last..).unwrap_or(&[]),
+            )?;
+            mine.push(ConvergenceRow {
+                method: String::new(),
+                step: h,
+                max_error,
+                final_error,
+                steps: traj.stats.accepted_steps,
+                rhs_evals: traj.stats.rhs_evals,
+            });
+        }
+        // An external integrator names itself in its answers.
+        let name = method.name();
+        for r in &mut mine {
+            r.method.clone_from(&name);
+        }
+        if !changed {
+            return Err(HarnessError::Integrator(format!(
+                "{label}: its answers do not change with the step (it ignores the fixed step \
+                 asked); an order cannot be fitted"
+            )));
+        }
+        let steps: Vec<f64> = mine.iter().map(|r| r.step).collect();
+        let errors: Vec<f64> = mine.iter().map(|r| r.max_error).collect();
+        let fit = fit_order(&steps, &errors)
+            .map_err(|e| HarnessError::Integrator(format!("{label}: {e}")))?;
+        fits.push(OrderFit {
+            method: name,
+            ..fit
+        });
+        rows.extend(mine);
+    }
+    Ok(ConvergenceReport {
+        case: plan.case.clone(),
+        rows,
+        fits,
+    })
+}
+
+/// Smallest median slope of a window: the error must fall with the step.
+const MIN_WINDOW_SLOPE: f64 = 0.5;
+
+/// How far a local slope may lie from the window's median m: max(0.15, 0.05·|m|).
+fn slope_tolerance(m: f64) -> f64 {
+    (0.05 * m.abs()).max(0.15)
+}
+
+fn median(v: &[f64]) -> f64 {
+    crate::bench::median(v)
+}
+
+/// The order of error ≈ C·hᵖ over the automatic window (see the module doc); `method` of the
+/// answer is empty. Errors: fewer than 3 usable points, no window.
+pub fn fit_order(steps: &[f64], errors: &[f64]) -> Result<OrderFit, String> {
+    let mut excluded = Vec::new();
+    let mut pts: Vec<(f64, f64)> = Vec::new();
+    for (&h, &e) in steps.iter().zip(errors) {
+        if e.is_finite() && e > 0.0 {
+            pts.push((h, e));
+        } else {
+            excluded.push(Excluded {
+                step: h,
+                why: format!("error {e} is not positive and finite: nothing to fit"),
+            });
+        }
+    }
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if pts.len() < 3 {
+        return Err(format!(
+            "an order needs at least 3 steps with a positive finite error, got {}",
+            pts.len()
+        ));
+    }
+    let log: Vec<(f64, f64)> = pts.iter().map(|&(h, e)| (h.log10(), e.log10())).collect();
+    let slopes: Vec<f64> = log
+        .windows(2)
+        .map(|w| (w[1].1 - w[0].1) / (w[1].0 - w[0].0))
+        .collect();
+    // Longest run of slopes [i, j) agreeing with their median; ties: smaller steps.
+    let mut best: Option<(usize, usize, f64)> = None;
+    for i in 0..slopes.len() {
+        for j in (i + 2)..=slopes.len() {
+            let m = median(&slopes[i..j]);
+            let ok = m >= MIN_WINDOW_SLOPE
+                && slopes[i..j]
+                    .iter()
+                    .all(|s| (s - m).abs() <= slope_tolerance(m));
+            let longer = match best {
+                None => true,
+                Some((bi, bj, _)) => j - i > bj - bi,
+            };
+            if ok && longer {
+                best = Some((i, j, m));
+            }
+        }
+    }
+    let Some((i, j, m)) = best else {
+        let shown: Vec<String> = slopes.iter().map(|s| format!("{s:.2}")).collect();
+        return Err(format!(
+            "no asymptotic window: no 3 neighbouring steps whose local slopes agree (slopes from \
+             the smallest step up: {}); add steps between the round-off floor and the \
+             pre-asymptotic range",
+            shown.join(", ")
+        ));
+    };
+    // Points i..=j are the window.
+    for k in 0..i {
+        let s = slopes[k];
+        let why = if s < m - slope_tolerance(m) {
+            format!(
+                "round-off floor: the error stops falling (local slope {s:.2} to the next \
+                 larger step, {m:.2} in the window)"
+            )
+        } else {
+            format!("local slope {s:.2} to the next larger step, far from {m:.2} in the window")
+        };
+        excluded.push(Excluded {
+            step: pts[k].0,
+            why,
+        });
+    }
+    for k in (j + 1)..pts.len() {
+        let s = slopes[k - 1];
+        excluded.push(Excluded {
+            step: pts[k].0,
+            why: format!(
+                "pre-asymptotic: local slope {s:.2} from the next smaller step, far from \
+                 {m:.2} in the window"
+            ),
+        });
+    }
+    excluded.sort_by(|a, b| b.step.total_cmp(&a.step));
+    let (order, order_stderr, log10_constant) = least_squares(&log[i..=j]);
+    Ok(OrderFit {
+        method: String::new(),
+        order,
+        order_stderr,
+        window: [pts[i].0, pts[j].0],
+        log10_constant,
+        excluded,
+    })
+}
+
+/// Slope, its standard error and intercept of y = c + p·x by least squares (n ≥ 3).
+pub fn least_squares(points: &[(f64, f64)]) -> (f64, f64, f64) {
+    let n = points.len() as f64;
+    let mx = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let slope = sxy / sxx;
+    let c = my - slope * mx;
+    let ssr: f64 = points.iter().map(|p| (p.1 - c - slope * p.0).powi(2)).sum();
+    let stderr = (ssr / (n - 2.0) / sxx).sqrt();
+    (slope, stderr, c)
+}
+
+#[cfg(test)]
+mod tests;

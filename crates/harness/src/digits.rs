@@ -1,0 +1,169 @@
+//! Correct digits, as the Bari "Test Set for IVP Solvers" counts them (Mazzia & Magherini):
+//!
+//! - `scd` = −log10(max over the components of |x − x_exact| / |x_exact|), significant correct
+//!   digits (components whose exact value is 0 are left out: their relative error has no scale);
+//! - `mescd` = −log10(max over the components of |x − x_exact| / (atol/rtol + |x_exact|)), mixed
+//!   error significant correct digits (atol/rtol = 1 for data without tolerances),
+//!
+//! at the last sample, and their smallest values over all samples (`scd_min`, `mescd_min`). The
+//! components are the nine of the state x = (ω, α, β); the errors are taken at the precision of
+//! the reference. A sample without error has unbounded digits (+∞, `null` in JSON).
+
+use rsts_dynamics::State;
+use rug::Float;
+use serde::{Deserialize, Deserializer, Serialize};
+
+/// The four digit counts of a run (top-level keys of the compare/check JSON, columns of bench).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CorrectDigits {
+    /// Significant correct digits at the last sample.
+    #[serde(deserialize_with = "inf_if_null")]
+    pub scd: f64,
+    /// Mixed error significant correct digits at the last sample.
+    #[serde(deserialize_with = "inf_if_null")]
+    pub mescd: f64,
+    /// The smallest `scd` over the samples.
+    #[serde(deserialize_with = "inf_if_null")]
+    pub scd_min: f64,
+    /// The smallest `mescd` over the samples.
+    #[serde(deserialize_with = "inf_if_null")]
+    pub mescd_min: f64,
+}
+
+impl Default for CorrectDigits {
+    /// No sample yet: no error, unbounded digits.
+    fn default() -> Self {
+        Self {
+            scd: f64::INFINITY,
+            mescd: f64::INFINITY,
+            scd_min: f64::INFINITY,
+            mescd_min: f64::INFINITY,
+        }
+    }
+}
+
+/// JSON writes +∞ (no error) as null: read it back as +∞.
+fn inf_if_null<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Option::<f64>::deserialize(d).map(|x| x.unwrap_or(f64::INFINITY))
+}
+
+/// The relative and the mixed error of one sample: (max |Δ|/|y|, max |Δ|/(ratio + |y|)) over
+/// the nine components, `ratio` = atol/rtol.
+pub fn sample_errors(exact: &State<Float>, state: &State<Float>, ratio: f64) -> (f64, f64) {
+    let (x, y) = (state.to_array(), exact.to_array());
+    let mut relative = 0.0f64;
+    let mut mixed = 0.0f64;
+    for (x, y) in x.iter().zip(y.iter()) {
+        let d = Float::with_val(y.prec(), x - y).abs();
+        let size = Float::with_val(y.prec(), y.abs_ref());
+        if !size.is_zero() {
+            relative = relative.max(Float::with_val(y.prec(), &d / &size).to_f64());
+        }
+        let scale = size + ratio;
+        mixed = mixed.max((d / scale).to_f64());
+    }
+    (relative, mixed)
+}
+
+/// −log10 of an error: +∞ for no error.
+fn digits_of(error: f64) -> f64 {
+    -error.log10()
+}
+
+/// Digits of a run taken one sample at a time (bounded memory).
+#[derive(Clone, Copy, Debug)]
+pub struct DigitsTracker {
+    ratio: f64,
+    worst: (f64, f64),
+    last: (f64, f64),
+}
+
+impl DigitsTracker {
+    /// `rtol`, `atol` of the integrator (none: atol/rtol = 1).
+    pub fn new(rtol: Option<f64>, atol: Option<f64>) -> Self {
+        let ratio = match (rtol, atol) {
+            (Some(r), Some(a)) if r > 0.0 && a.is_finite() && a >= 0.0 => a / r,
+            _ => 1.0,
+        };
+        Self {
+            ratio,
+            worst: (0.0, 0.0),
+            last: (0.0, 0.0),
+        }
+    }
+
+    /// Add the next sample.
+    pub fn sample(&mut self, exact: &State<Float>, state: &State<Float>) {
+        self.last = sample_errors(exact, state, self.ratio);
+        self.worst = (self.worst.0.max(self.last.0), self.worst.1.max(self.last.1));
+    }
+
+    /// The digits so far.
+    pub fn summary(&self) -> CorrectDigits {
+        CorrectDigits {
+            scd: digits_of(self.last.0),
+            mescd: digits_of(self.last.1),
+            scd_min: digits_of(self.worst.0),
+            mescd_min: digits_of(self.worst.1),
+        }
+    }
+}
+
+/// Digits of whole trajectories (`states` against `reference`, same length), `ratio` = atol/rtol.
+pub fn correct_digits(
+    reference: &[State<Float>],
+    states: &[State<Float>],
+    rtol: Option<f64>,
+    atol: Option<f64>,
+) -> CorrectDigits {
+    let mut t = DigitsTracker::new(rtol, atol);
+    for (y, x) in reference.iter().zip(states) {
+        t.sample(y, x);
+    }
+    t.summary()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn state(values: [f64; 9]) -> State<Float> {
+        let f = |k: usize| Float::with_val(200, values[k]);
+        State {
+            omega: [f(0), f(1), f(2)],
+            alpha: [f(3), f(4), f(5)],
+            beta: [f(6), f(7), f(8)],
+        }
+    }
+
+    /// Hand-worked: exact (2, 0, 0.5, 1, …), errors 2e-6 on the 2 (relative 1e-6), 1e-9 on the
+    /// exact 0 (no relative error; mixed 1e-9/ratio), 5e-8 on the 0.5 (relative 1e-7).
+    #[test]
+    fn digits_of_a_hand_worked_sample_and_the_worst_over_samples() {
+        let y = state([2.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]);
+        let x = state([2.0 + 2e-6, 1e-9, 0.5 + 5e-8, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]);
+        let (rel, mixed) = sample_errors(&y, &x, 1.0);
+        assert!((rel - 1e-6).abs() < 1e-15, "{rel:e}");
+        // max(2e-6 / 3, 1e-9 / 1, 5e-8 / 1.5) = 6.67e-7.
+        assert!((mixed - 2e-6 / 3.0).abs() < 1e-15, "{mixed:e}");
+        // atol/rtol = 1e-3: the exact 0 dominates, 1e-9 / 1e-3 = 1e-6 > 2e-6 / 2.001.
+        let (_, mixed) = sample_errors(&y, &x, 1e-3);
+        assert!((mixed - 1e-6).abs() < 1e-15, "{mixed:e}");
+
+        let mut t = DigitsTracker::new(Some(1e-9), Some(1e-12));
+        assert_eq!(t.summary().scd, f64::INFINITY);
+        t.sample(&y, &x);
+        t.sample(&y, &y);
+        let d = t.summary();
+        assert_eq!(
+            (d.scd, d.mescd),
+            (f64::INFINITY, f64::INFINITY),
+            "last exact"
+        );
+        assert!((d.scd_min - 6.0).abs() < 1e-9, "{d:?}");
+        assert!((d.mescd_min - 6.0).abs() < 1e-9, "{d:?}");
+        let json = serde_json::to_string(&d).unwrap();
+        let back: CorrectDigits = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, d, "{json}");
+    }
+}

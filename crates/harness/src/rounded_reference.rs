@@ -1,0 +1,92 @@
+//! The reference of f64 data in double-double: the state (ω, α, β) from the closed form in
+//! [`DoubleDouble`], each value rounded to f64 when Ziv's test decides it
+//! ([`rsts_closed_form::rounded`]), the state otherwise recomputed in MPFR by the caller. The
+//! result is the MPFR state rounded to f64, bit for bit (tests/rounded_reference.rs), at about
+//! a fifth of its cost. H, K, G are constants on N ([`integrals_on_n`]), rounded once.
+
+use rug::Float;
+
+use rsts_closed_form::rounded::{calibration_times, RoundingBounds};
+use rsts_closed_form::{ExplicitMotion, TorusChoice};
+use rsts_dynamics::scalar::DoubleDouble;
+use rsts_dynamics::{Real, State};
+
+use crate::case::Case;
+
+/// The values of a state: ω, α, β.
+pub const VALUES: usize = 9;
+
+/// H, K, G on N correctly rounded to f64: H = h, K = r⁴m², G = (p²h + r⁴m)/2 (seed sec. 1;
+/// `rsts_dynamics::integrals`), computed exactly (1024 bits hold every product of the f64
+/// inputs) and rounded once — so K = 0 when m = 0, and a value halfway between two f64 goes to
+/// the even one, where a state's H, K, G rounded from MPFR carry the noise of its last bits.
+pub fn integrals_on_n(case: &Case) -> [f64; 3] {
+    let f = |x: f64| Float::with_val(1024, x);
+    let (a2, b2) = (f(case.a).square(), f(case.b).square());
+    let r2 = Float::with_val(1024, &a2 - &b2);
+    let p2 = a2 + b2;
+    let r4 = r2.square();
+    let r4m = r4 * f(case.m);
+    let k = Float::with_val(1024, &r4m * f(case.m));
+    let g = (p2 * f(case.h) + r4m) / 2u32;
+    [case.h, k.to_f64(), g.to_f64()]
+}
+
+/// The closed form of a case in double-double with the calibrated bounds of its state.
+#[derive(Clone, Debug)]
+pub struct DdReference {
+    motion: ExplicitMotion<DoubleDouble>,
+    bounds: RoundingBounds<VALUES>,
+}
+
+impl DdReference {
+    /// The motion of `case` in double-double with its phase clock built for |t| ≤ `t_max`, its
+    /// bounds calibrated against `mpfr` (the state at the reference precision). `None`
+    /// when the motion cannot be built in double-double (the caller stays with MPFR).
+    pub fn new(case: &Case, t_max: f64, mpfr: impl Fn(f64) -> [Float; VALUES]) -> Option<Self> {
+        let d = DoubleDouble::from_f64_exact;
+        let choice = TorusChoice {
+            torus: case.torus,
+            phase1: case.phase1,
+            phase2: case.phase2,
+        };
+        let motion =
+            ExplicitMotion::new_until(d(case.a), d(case.b), d(case.m), d(case.h), choice, t_max)
+                .ok()?;
+        let times = calibration_times(motion.periods().map(|p| p.to_f64()));
+        let mut me = Self {
+            motion,
+            bounds: RoundingBounds {
+                bounds: [0.0; VALUES],
+            },
+        };
+        me.bounds = RoundingBounds::calibrate(&times, |t| me.values(t), mpfr);
+        Some(me)
+    }
+
+    /// The state at time t in double-double, as 9 values.
+    pub fn values(&self, t: f64) -> [DoubleDouble; VALUES] {
+        self.state(t).to_array()
+    }
+
+    /// The state at time t in double-double.
+    pub fn state(&self, t: f64) -> State<DoubleDouble> {
+        let e = self.motion.at(&DoubleDouble::from_f64_exact(t));
+        State {
+            omega: e.omega,
+            alpha: e.alpha,
+            beta: e.beta,
+        }
+    }
+
+    /// The state at time t correctly rounded to f64, or `None` where Ziv's test cannot
+    /// decide one of them (then compute the row in MPFR).
+    pub fn rounded(&self, t: f64) -> Option<[f64; VALUES]> {
+        self.bounds.round(&self.values(t))
+    }
+
+    /// The calibrated absolute error bound of each value.
+    pub fn bounds(&self) -> &[f64; VALUES] {
+        &self.bounds.bounds
+    }
+}

@@ -1,0 +1,77 @@
+//! `rsts.convergence`: built-in methods at fixed steps and their observed orders, the document
+//! of `rsts convergence --format json` (the same library function and report type).
+
+use pyo3::prelude::*;
+
+use rsts_dynamics::integrators::MethodName;
+use rsts_harness::{convergence as run, ConvergencePlan, FixedStepIntegrator, FixedStepMethod};
+
+use crate::case::{whole, Case};
+use crate::{harness_error, report_dict, value_error};
+
+/// Run built-in `methods` ("rk4", "dopri5", "dop853": step control off; "taylor-f64",
+/// "taylor-dd", "taylor-mp" at `order`) at the fixed `steps` (at least 3; each made a whole
+/// fraction of the sample spacing t_end/(samples - 1)) along `case` (default: `Case.default()`)
+/// and fit each method's order over its asymptotic window: a dict with `case`, `rows` (method,
+/// step, max_error, final_error, steps, rhs_evals) and `fits` (method, order, order_stderr,
+/// window, excluded: [{step, why}]), equal to `rsts convergence --format json`.
+#[pyfunction]
+#[pyo3(signature = (methods, steps, case = None, t_end = 10.0, samples = 11, order = None, digits = 40))]
+#[allow(clippy::too_many_arguments)]
+pub fn convergence<'py>(
+    py: Python<'py>,
+    methods: Vec<String>,
+    steps: Vec<f64>,
+    case: Option<Case>,
+    t_end: f64,
+    samples: i64,
+    order: Option<i64>,
+    digits: i64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let case = match case {
+        Some(c) => c,
+        None => Case::checked(rsts_harness::Case::default_i_plus())?,
+    };
+    let samples = whole("samples", samples)?;
+    if methods.is_empty() {
+        return Err(value_error(&["methods"], "give at least one method"));
+    }
+    let digits = u32::try_from(digits)
+        .ok()
+        .filter(|d| (10..=rsts_dynamics::integrators::MAX_MP_DIGITS).contains(d))
+        .ok_or_else(|| value_error(&["digits"], format!("must be 10 to 10000, got {digits}")))?;
+    let order = order
+        .map(|p| usize::try_from(p).map_err(|_| value_error(&["order"], "must be positive")))
+        .transpose()?;
+    let mut fixed = Vec::new();
+    for m in &methods {
+        let name: MethodName = m.parse().map_err(|e| value_error(&["methods"], e))?;
+        fixed.push(
+            FixedStepMethod::new(name, order, digits).map_err(|e| value_error(&["order"], e))?,
+        );
+    }
+    if order.is_some() && !fixed.iter().any(|f| f.order.is_some()) {
+        return Err(value_error(
+            &["order"],
+            "only the Taylor methods take a fixed order",
+        ));
+    }
+    let plan = ConvergencePlan::new(case.on_grid(t_end, samples), &steps).map_err(|e| {
+        let msg = e.to_string();
+        if msg.starts_with("steps") {
+            value_error(&["steps"], msg)
+        } else {
+            harness_error(e)
+        }
+    })?;
+    let report = py
+        .detach(|| {
+            let mut refs: Vec<&mut dyn FixedStepIntegrator> = fixed
+                .iter_mut()
+                .map(|f| f as &mut dyn FixedStepIntegrator)
+                .collect();
+            run(&plan, &mut refs)
+        })
+        .map_err(harness_error)?;
+    report_dict(py, &report)
+}
