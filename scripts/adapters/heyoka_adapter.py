@@ -53,6 +53,34 @@ def equations():
     ]
 
 
+def event_expressions():
+    """The event functions of `rsts events` that are expressions of the state: the components of
+    omega, alpha, beta and of gamma = alpha x beta (s1, s2 turning points are not)."""
+    w1, w2, w3, a1, a2, a3, b1, b2, b3 = hy.make_vars("w1", "w2", "w3", "a1", "a2", "a3", "b1", "b2", "b3")
+    names = {"omega1": w1, "omega2": w2, "omega3": w3, "alpha1": a1, "alpha2": a2, "alpha3": a3,
+             "beta1": b1, "beta2": b2, "beta3": b3}
+    names.update({"gamma1": a2 * b3 - a3 * b2, "gamma2": a3 * b1 - a1 * b3, "gamma3": a1 * b2 - a2 * b1})
+    return names
+
+
+def event_list(asked, dtype, found):
+    """heyoka non-terminal events for the request's `events`; each detection appends (name, t)
+    to `found`. Names heyoka cannot express are skipped with a note on stderr."""
+    exprs = event_expressions()
+    directions = {"up": hy.event_direction.positive, "down": hy.event_direction.negative,
+                  "both": hy.event_direction.any}
+    events = []
+    for e in asked:
+        name, direction = e["name"], e.get("direction", "both")
+        if name not in exprs:
+            print(f"heyoka_adapter.py: event {name} is not an expression of the state; skipped", file=sys.stderr)
+            continue
+        def callback(ta, t, d_sgn, name=name):
+            found.append((name, t))
+        events.append(hy.nt_event(exprs[name], callback, direction=directions[direction], fp_type=dtype))
+    return events
+
+
 def main():
     method = sys.argv[1] if len(sys.argv) > 1 else "f64"
     if method not in METHODS:
@@ -79,6 +107,10 @@ def main():
         opts["prec"] = bits
     if method == "f64-ha":
         opts["high_accuracy"] = True
+    found = []
+    events = event_list(req.get("events", []), dtype, found)
+    if events:
+        opts["nt_events"] = events
     ta = hy.taylor_adaptive(equations(), state, **opts)
     start = time.perf_counter()
     if req.get("step") is not None:
@@ -94,9 +126,15 @@ def main():
         {"t": float(t), "omega": [out(x) for x in s[0:3]], "alpha": [out(x) for x in s[3:6]], "beta": [out(x) for x in s[6:9]]}
         for t, s in zip(req["times"], states)
     ]
+    # Events located by heyoka's own machinery (nt_event), in time order, in (0, t_end].
+    t_end = float(req["times"][-1]) if req["times"] else 0.0
+    answer_events = [
+        {"name": n, "t": out(t)} for n, t in sorted(found, key=lambda e: e[1]) if 0 < float(t) <= t_end
+    ]
     name = f"heyoka-{method}" + (f"-{req['digits']}d" if method == "mpfr" else "")
+    extra = {"events": answer_events} if "events" in req else {}
     json.dump(
-        {"name": name, "samples": samples,
+        {"name": name, "samples": samples, **extra,
          "stats": {"steps": int(steps), "rhs_evals": int(steps) * int(ta.order), "integration_seconds": seconds}},
         sys.stdout,
     )

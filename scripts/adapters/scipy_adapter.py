@@ -26,6 +26,34 @@ from scipy.integrate import solve_ivp
 METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 FIXED_STEP = ("RK45", "DOP853")
 
+# Event functions of `rsts events` that are functions of the state (docs/events.md).
+STATE_EVENTS = {name: k for k, name in enumerate(
+    ["omega1", "omega2", "omega3", "alpha1", "alpha2", "alpha3", "beta1", "beta2", "beta3"])}
+
+
+def event_functions(asked):
+    """solve_ivp event callables (with .direction) for the request's `events`, and their names."""
+    def gamma(k):
+        def g(t, y):
+            al, be = y[3:6], y[6:9]
+            return [al[1] * be[2] - al[2] * be[1], al[2] * be[0] - al[0] * be[2], al[0] * be[1] - al[1] * be[0]][k]
+        return g
+    funcs, names = [], []
+    for e in asked:
+        name, direction = e["name"], e.get("direction", "both")
+        if name in STATE_EVENTS:
+            k = STATE_EVENTS[name]
+            f = (lambda k: lambda t, y: y[k])(k)
+        elif name in ("gamma1", "gamma2", "gamma3"):
+            f = gamma(int(name[-1]) - 1)
+        else:
+            print(f"scipy_adapter.py: event {name} is not a function of the state; skipped", file=sys.stderr)
+            continue
+        f.direction = {"up": 1.0, "down": -1.0}.get(direction, 0.0)
+        funcs.append(f)
+        names.append(name)
+    return funcs, names
+
 
 def main():
     method = sys.argv[1] if len(sys.argv) > 1 else "RK45"
@@ -43,6 +71,8 @@ def main():
                 a2 * w3 - a3 * w2, a3 * w1 - a1 * w3, a1 * w2 - a2 * w1,
                 b2 * w3 - b3 * w2, b3 * w1 - b1 * w3, b1 * w2 - b2 * w1]
 
+    funcs, names = event_functions(req.get("events", []))
+    found = []
     step = req.get("step")
     if step is not None and method not in FIXED_STEP:
         sys.exit(f"scipy_adapter.py: {method} cannot take a fixed step (asked: step = {step}); "
@@ -55,7 +85,10 @@ def main():
         ts, ys, nfev, steps = fixed_steps(rhs, times, y0, method, float(step))
     else:
         sol = solve_ivp(rhs, (times[0], times[-1]), y0, method=method, t_eval=times,
-                        rtol=req["rtol"], atol=req["atol"])
+                        rtol=req["rtol"], atol=req["atol"], events=funcs or None)
+        # Events located by solve_ivp's own root finder (brentq on its dense output).
+        if funcs:
+            found = sorted((float(t), n) for n, ts_n in zip(names, sol.t_events) for t in ts_n if t > times[0])
         if not sol.success:
             sys.exit(f"scipy_adapter.py: solve_ivp failed: {sol.message}")
         ts, ys, nfev = sol.t, sol.y, sol.nfev
@@ -66,7 +99,12 @@ def main():
     stats = {"rhs_evals": int(nfev), "integration_seconds": seconds}
     if steps is not None:
         stats["steps"] = int(steps)
-    json.dump({"name": f"scipy-{method}", "samples": samples, "stats": stats}, sys.stdout)
+    answer = {"name": f"scipy-{method}", "samples": samples, "stats": stats}
+    # At a fixed step solve_ivp's events are not used: no "events" (rsts then locates them in
+    # the samples).
+    if "events" in req and step is None:
+        answer["events"] = [{"name": n, "t": t} for t, n in found]
+    json.dump(answer, sys.stdout)
 
 
 def fixed_steps(rhs, times, y0, method, step):

@@ -19,8 +19,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use commands::{
-    bench, check, compare, convergence, diagram, explicit, identify, inspect, integrate, reference,
-    surfaces, table1, table2, validate,
+    bench, check, compare, convergence, diagram, events, explicit, identify, inspect, integrate,
+    reference, surfaces, table1, table2, validate,
 };
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
@@ -71,6 +71,9 @@ enum Command {
     /// Check a trajectory computed elsewhere (CSV, JSON, npy, MCAP) against the closed form on N.
     #[command(after_help = check::EXAMPLES)]
     Check(check::Args),
+    /// Exact event times along the motion on N: zeros of state components, of gamma, turning points of s1, s2.
+    #[command(after_help = events::EXAMPLES)]
+    Events(events::Args),
     /// The exact motion on N at any times (H, K, G per row): CSV, JSON or npy.
     #[command(after_help = reference::EXAMPLES)]
     Reference(reference::Args),
@@ -106,6 +109,7 @@ impl Command {
             Command::Diagram(args) => diagram::run(args, out),
             Command::Compare(args) => compare::run(args, out),
             Command::Check(args) => check::run(args, out),
+            Command::Events(args) => events::run(args, out),
             Command::Reference(args) => reference::run(args, out),
             Command::Inspect(args) => inspect::run(args, out),
             Command::Bench(args) => bench::run(args, out),

@@ -70,7 +70,26 @@ fn base(command: &str) -> Option<Vec<Vec<String>>> {
             ]),
         ],
         "diagram" => vec![v(&["diagram", "--m", "0.3", "--h", "-0.375"])],
-        "compare" => vec![v(&["compare", "--t-end", "1", "--samples", "3"])],
+        "compare" => vec![
+            v(&["compare", "--t-end", "1", "--samples", "3"]),
+            v(&[
+                "compare",
+                "--t-end",
+                "5",
+                "--samples",
+                "51",
+                "--event",
+                "omega1",
+            ]),
+        ],
+        "events" => vec![
+            v(&[
+                "events", "--event", "omega1", "--event", "s2", "--t-end", "5",
+            ]),
+            v(&[
+                "events", "--event", "omega1", "--t-end", "5", "--digits", "30",
+            ]),
+        ],
         "inspect" => vec![
             vec!["inspect".into(), mcap.clone()],
             vec![

@@ -12,6 +12,7 @@ pub mod constants;
 pub mod diagram;
 pub mod elliptic;
 pub mod error;
+pub mod events;
 pub mod formulas;
 pub mod manifold;
 pub mod motion;

@@ -193,6 +193,56 @@ impl<T: Scalar> ExplicitMotion<T> {
         }
     }
 
+    /// The times t in (t0, t1] at which separated variable `i` (0: x = 1/s₁, 1: s₂) is at a
+    /// turning point, in time order, each with `true` at the lower end λ (sn u = 0, u = 2jK) and
+    /// `false` at the upper end μ (cn u = 0, u = (2j+1)K): t = (jK − u₀)/u̇, computed with the
+    /// clock's guard bits. At most `limit` times (`None` beyond).
+    pub fn turning_times(&self, i: usize, t0: &T, t1: &T, limit: usize) -> Option<Vec<(T, bool)>> {
+        let bits = self.constants.a.prec();
+        let (hi, u0, u_dot, big_k) = match &self.clock {
+            Some(clock) => {
+                let (u0, four_k) = clock.u0_four_k();
+                let k = Float::with_val(clock.bits(), &four_k[i] / 4u32);
+                (clock.bits(), u0[i].clone(), clock.u_dot()[i].clone(), k)
+            }
+            None => {
+                let hi = bits.max(53);
+                let v = self.vars()[i];
+                (
+                    hi,
+                    self.u0[i].to_mpfr(hi),
+                    v.u_dot.to_mpfr(hi),
+                    v.modulus.big_k.to_mpfr(hi),
+                )
+            }
+        };
+        let (a, b) = (t0.to_mpfr(hi), t1.to_mpfr(hi));
+        // j K ranges over u(t) for t in [t0, t1]: u = u₀ + u̇ t.
+        let ua = Float::with_val(hi, &u_dot * &a) + &u0;
+        let ub = Float::with_val(hi, &u_dot * &b) + &u0;
+        let (lo, up) = if ua <= ub { (ua, ub) } else { (ub, ua) };
+        let j0 = Float::with_val(hi, &lo / &big_k).floor();
+        let j1 = Float::with_val(hi, &up / &big_k).ceil();
+        let span = Float::with_val(hi, &j1 - &j0).to_f64();
+        if !(span.is_finite() && span <= limit as f64 + 2.0) {
+            return None;
+        }
+        let mut out = Vec::new();
+        let mut j = j0;
+        while j <= j1 {
+            let t = (Float::with_val(hi, &j * &big_k) - &u0) / &u_dot;
+            if t > a && t <= b {
+                let even = Float::with_val(hi, &j / 2u32).is_integer();
+                out.push((T::from_mpfr(&t, bits), even));
+            }
+            j += 1u32;
+        }
+        if u_dot < 0 {
+            out.reverse();
+        }
+        (out.len() <= limit).then_some(out)
+    }
+
     /// The state at time t.
     pub fn at(&self, t: &T) -> ExplicitState<T> {
         let [u1, u2] = self.u_at(t);

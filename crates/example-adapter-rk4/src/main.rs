@@ -15,6 +15,12 @@
 //! is a whole number of steps; `--step H` sets it instead (and the request's step is ignored).
 //! `--tableau heun|kutta3|rk4-wrong-weight` runs another explicit Runge–Kutta method instead of
 //! the classical RK4 (known orders, for tests of observed-order fits).
+//!
+//! Events (docs/events.md): when the request asks for `"events"` (components of ω, α, β, γ),
+//! each step's event function is interpolated by the cubic Hermite polynomial of its values and
+//! derivatives (from the equations) at both ends, and a sign change at the step's ends is refined
+//! by bisection on that cubic. `--drop-event K` leaves out the K-th event found (0-based): a
+//! faulty event finder, for testing the checks.
 
 use std::io::{Read, Write};
 use std::time::Instant;
@@ -105,6 +111,64 @@ fn num(v: &Value) -> Result<f64, String> {
     }
 }
 
+/// Value and time derivative of a named event function at a state (None: not a state function).
+fn event_fn(name: &str, a: f64, b: f64, y: &State) -> Option<(f64, f64)> {
+    let dy = rhs(a, b, y);
+    let names = [
+        "omega1", "omega2", "omega3", "alpha1", "alpha2", "alpha3", "beta1", "beta2", "beta3",
+    ];
+    if let Some(k) = names.iter().position(|n| *n == name) {
+        return Some((y[k], dy[k]));
+    }
+    let k = ["gamma1", "gamma2", "gamma3"]
+        .iter()
+        .position(|n| *n == name)?;
+    let cross = |u: [f64; 3], v: [f64; 3]| -> [f64; 3] {
+        [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ]
+    };
+    let g = cross([y[3], y[4], y[5]], [y[6], y[7], y[8]]);
+    let dg = cross(g, [y[0], y[1], y[2]]);
+    Some((g[k], dg[k]))
+}
+
+/// The zero in (t0, t0 + h] of the cubic Hermite interpolant of (g, g') at both ends, when the
+/// end values differ in sign and the direction is asked for.
+fn hermite_zero(
+    t0: f64,
+    h: f64,
+    (g0, d0): (f64, f64),
+    (g1, d1): (f64, f64),
+    dir: &str,
+) -> Option<f64> {
+    let up = g0 < 0.0 && g1 >= 0.0;
+    let down = g0 > 0.0 && g1 <= 0.0;
+    if !((up && dir != "down") || (down && dir != "up")) {
+        return None;
+    }
+    let p = |s: f64| {
+        let s2 = s * s;
+        let s3 = s2 * s;
+        (2.0 * s3 - 3.0 * s2 + 1.0) * g0
+            + (s3 - 2.0 * s2 + s) * h * d0
+            + (3.0 * s2 - 2.0 * s3) * g1
+            + (s3 - s2) * h * d1
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if (p(mid) >= 0.0) == up {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(t0 + 0.5 * (lo + hi) * h)
+}
+
 fn run() -> Result<Value, String> {
     let mut text = String::new();
     std::io::stdin()
@@ -143,6 +207,29 @@ fn run() -> Result<Value, String> {
     if !(step.is_finite() && step > 0.0) {
         return Err(format!("the step must be positive, got {step}"));
     }
+    let drop = match args.iter().position(|s| s == "--drop-event") {
+        Some(i) => Some(
+            args.get(i + 1)
+                .and_then(|v| v.parse::<usize>().ok())
+                .ok_or("--drop-event needs a whole number")?,
+        ),
+        None => None,
+    };
+    // (name, direction) of the events asked for that are functions of the state.
+    let mut asked: Vec<(String, String)> = Vec::new();
+    for e in req["events"].as_array().into_iter().flatten() {
+        let name = e["name"]
+            .as_str()
+            .ok_or("an event without a name")?
+            .to_string();
+        let dir = e["direction"].as_str().unwrap_or("both").to_string();
+        if event_fn(&name, a, b, &y).is_some() {
+            asked.push((name, dir));
+        } else {
+            eprintln!("example-adapter-rk4: event {name} is not a function of the state; skipped");
+        }
+    }
+    let mut found: Vec<(String, f64)> = Vec::new();
     let sample =
         |t: f64, y: &State| json!({"t": t, "omega": &y[0..3], "alpha": &y[3..6], "beta": &y[6..9]});
     let started = Instant::now();
@@ -151,18 +238,42 @@ fn run() -> Result<Value, String> {
     for w in times.windows(2) {
         let n = ((w[1] - w[0]) / step).ceil().max(1.0);
         let h = (w[1] - w[0]) / n;
-        for _ in 0..n as u64 {
-            y = rk_step(tableau, a, b, &y, h);
+        for j in 0..n as u64 {
+            let next = rk_step(tableau, a, b, &y, h);
+            let t0 = w[0] + j as f64 * h;
+            for (name, dir) in &asked {
+                let (e0, e1) = (event_fn(name, a, b, &y), event_fn(name, a, b, &next));
+                if let (Some(e0), Some(e1)) = (e0, e1) {
+                    if let Some(t) = hermite_zero(t0, h, e0, e1, dir) {
+                        found.push((name.clone(), t));
+                    }
+                }
+            }
+            y = next;
             steps += 1;
         }
         samples.push(sample(w[1], &y));
     }
     let seconds = started.elapsed().as_secs_f64();
-    Ok(json!({
+    let mut answer = json!({
         "name": if tableau.name == "rk4" { "example-rk4".to_string() } else { format!("example-{}", tableau.name) },
         "samples": samples,
         "stats": {"steps": steps, "rhs_evals": tableau.b.len() as u64 * steps, "integration_seconds": seconds},
-    }))
+    });
+    if req.get("events").is_some() {
+        found.sort_by(|p, q| p.1.total_cmp(&q.1));
+        if let Some(k) = drop {
+            if k < found.len() {
+                found.remove(k);
+            }
+        }
+        let list: Vec<Value> = found
+            .iter()
+            .map(|(n, t)| json!({"name": n, "t": t}))
+            .collect();
+        answer["events"] = Value::Array(list);
+    }
+    Ok(answer)
 }
 
 fn main() {

@@ -145,6 +145,11 @@ pub struct Exec {
     /// reference must exceed).
     pub digits: u32,
     pub timeout: Duration,
+    /// Events asked for in the request, as (name, direction) (docs/events.md); none: the
+    /// request has no `"events"`.
+    pub events: Vec<(String, String)>,
+    /// The `"events"` of the last answer as (name, t), when it had them.
+    pub answered_events: Option<Vec<(String, f64)>>,
     /// A fixed step asked of the integrator (`"step"` in the request; convergence studies).
     pub step: Option<f64>,
 }
@@ -168,6 +173,8 @@ impl Exec {
             tolerances,
             digits: DEFAULT_DIGITS,
             timeout: Duration::from_secs_f64(DEFAULT_TIMEOUT_SECONDS),
+            events: Vec::new(),
+            answered_events: None,
             step: None,
         })
     }
@@ -234,6 +241,14 @@ impl Exec {
             "atol": self.tolerances.atol,
             "digits": self.digits,
         });
+        if !self.events.is_empty() {
+            let list: Vec<Value> = self
+                .events
+                .iter()
+                .map(|(name, direction)| json!({"name": name, "direction": direction}))
+                .collect();
+            request["events"] = Value::Array(list);
+        }
         if let Some(h) = self.step {
             request["step"] = json!(h);
         }
@@ -348,6 +363,7 @@ impl Exec {
         }
         let mut answered = None;
         let mut digits = None;
+        let mut answered_events = None;
         let (raw, stats) = if text.trim_start().starts_with('{') {
             let doc: Value =
                 serde_json::from_str(text).map_err(|e| garbage(format!("invalid JSON: {e}")))?;
@@ -368,6 +384,10 @@ impl Exec {
                     })?;
                 digits = Some(d as u32);
             }
+            answered_events = match doc.get("events") {
+                None => None,
+                Some(v) => Some(parse_events(v).map_err(garbage)?),
+            };
             (parse_json(&doc).map_err(garbage)?, stats)
         } else {
             (parse_csv(text).map_err(garbage)?, (None, None, None))
@@ -378,6 +398,7 @@ impl Exec {
         if digits.is_some() {
             self.answered_digits = digits;
         }
+        self.answered_events = answered_events;
         if raw.len() != times.len() {
             return Err(self.fail(
                 format_args!(
@@ -412,6 +433,28 @@ impl Exec {
 }
 
 type AnswerStats = (Option<u64>, Option<u64>, Option<f64>);
+
+/// `events` of an answer: `[{"name", "t"}]`, t a number or a decimal string.
+fn parse_events(v: &Value) -> Result<Vec<(String, f64)>, String> {
+    let list = v.as_array().ok_or("\"events\" must be an array")?;
+    list.iter()
+        .enumerate()
+        .map(|(i, e)| {
+            let name = e.get("name").and_then(Value::as_str);
+            let t = match e.get("t") {
+                Some(Value::Number(n)) => n.as_f64(),
+                Some(Value::String(s)) => s.trim().parse().ok(),
+                _ => None,
+            };
+            match (name, t) {
+                (Some(n), Some(t)) if t.is_finite() => Ok((n.to_string(), t)),
+                _ => Err(format!(
+                    "events[{i}] needs a \"name\" string and a finite \"t\""
+                )),
+            }
+        })
+        .collect()
+}
 
 /// `stats` of an answer: every field optional, numbers or decimal strings.
 fn parse_stats(v: Option<&Value>) -> Result<AnswerStats, String> {

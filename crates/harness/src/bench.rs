@@ -46,6 +46,9 @@ pub struct BenchRow {
     /// (process start-up included); absent for in-process integrators.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_seconds: Option<f64>,
+    /// Events located against the exact ones (`bench --event`; docs/events.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub events: Option<crate::events::EventCounts>,
 }
 
 /// The closed-form motion of a case at its sample times, at a given precision.
@@ -149,6 +152,28 @@ pub fn measure(
     measure_against(&reference, config, repeats)
 }
 
+/// One more run of `integrator` over the reference's grid (untimed): its sample times and
+/// states (ω, α, β) in f64, for locating events ([`crate::events::events_of_run`]).
+pub fn run_once(
+    reference: &Reference,
+    integrator: &mut dyn Integrator,
+) -> Result<(Vec<f64>, Vec<[f64; 9]>), HarnessError> {
+    let problem = Problem {
+        fields: reference.fields.clone(),
+        initial: reference.states[0].clone(),
+    };
+    let traj = integrator.integrate(&problem, &reference.times)?;
+    let states = traj
+        .states
+        .iter()
+        .map(|s| {
+            let v = [&s.omega, &s.alpha, &s.beta];
+            std::array::from_fn(|k| v[k / 3][k % 3].to_f64())
+        })
+        .collect();
+    Ok((traj.times, states))
+}
+
 /// Measure the built-in method `config` against an already evaluated reference (see
 /// [`measure_integrator`]); the row's tolerance is min(rtol, atol).
 pub fn measure_against(
@@ -233,6 +258,7 @@ fn summarize(
         steps: traj.stats.accepted_steps,
         rhs_evals: traj.stats.rhs_evals,
         wall_seconds: (!walls.is_empty()).then(|| median(&walls)),
+        events: None,
     })
 }
 

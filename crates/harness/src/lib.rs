@@ -28,6 +28,7 @@ pub mod convergence;
 pub mod digits;
 pub mod drift_growth;
 pub mod environment;
+pub mod events;
 pub mod geometry;
 pub mod growth;
 pub mod identify;

@@ -106,6 +106,7 @@ mod tests {
             steps: 1,
             rhs_evals: 1,
             wall_seconds: None,
+            events: None,
         }
     }
 

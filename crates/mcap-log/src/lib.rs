@@ -13,12 +13,14 @@
 
 pub mod compat;
 pub mod demo;
+mod events;
 mod framing;
 pub mod inspect;
 pub mod quat;
 pub mod schemas;
 mod writer;
 
+pub use events::EventMark;
 pub use inspect::{extract, summarize, InspectError, Series, Summary};
 pub use quat::Quaternion;
 pub use writer::{
@@ -38,6 +40,10 @@ pub mod topics {
     pub const INTEGRATED_STATE: &str = "/integrated/state";
     /// `rsts.Errors`.
     pub const ERRORS: &str = "/errors";
+    /// `foxglove.Log`: one line per exact, missed or spurious event (`compare --event`).
+    pub const EVENTS: &str = "/events";
+    /// `rsts.EventMarker`: the same events as numbers for the Plot panel.
+    pub const EVENT_MARKERS: &str = "/events/markers";
     /// `foxglove.SceneUpdate`: moving hodograph (ω, frame `body_exact`).
     pub const EXACT_HODOGRAPH_MOVING: &str = "/exact/hodograph/moving";
     /// `foxglove.SceneUpdate`: fixed hodograph (Ω, frame `world`).

@@ -168,7 +168,7 @@ pub fn time_to_ns(t: f64) -> Result<u64, LogError> {
     Ok((t * 1e9).round() as u64)
 }
 
-fn stamp(ns: u64) -> Value {
+pub(crate) fn stamp(ns: u64) -> Value {
     json!({"sec": ns / 1_000_000_000, "nsec": ns % 1_000_000_000})
 }
 
@@ -316,7 +316,7 @@ pub struct LogStats {
 /// stopped early on purpose (the first Ctrl-C caught by the CLI) calls `finish` and so leaves a
 /// complete, indexed file of what it logged.
 pub struct TrajectoryLog {
-    writer: Option<mcap::Writer<AtomicFile>>,
+    pub(crate) writer: Option<mcap::Writer<AtomicFile>>,
     /// The first write error, repeated by every later call.
     failed: Option<String>,
     path: PathBuf,
@@ -468,13 +468,18 @@ impl TrajectoryLog {
     }
 
     /// Remember the first error of a write.
-    fn fail(&mut self, e: LogError) -> LogError {
+    pub(crate) fn fail(&mut self, e: LogError) -> LogError {
         let text = rsts_io::error_text(&e);
         self.failed.get_or_insert(text.clone());
         LogError::Failed(text)
     }
 
-    fn write_json(&mut self, channel: u16, ns: u64, value: &Value) -> Result<(), LogError> {
+    pub(crate) fn write_json(
+        &mut self,
+        channel: u16,
+        ns: u64,
+        value: &Value,
+    ) -> Result<(), LogError> {
         self.check_failed()?;
         let data = serde_json::to_vec(value)?;
         let w = self.writer.as_mut().ok_or(LogError::Finished)?;

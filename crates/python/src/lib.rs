@@ -20,6 +20,7 @@ mod case;
 mod check;
 mod compare;
 mod convergence;
+mod events;
 mod identify;
 
 /// `ValueError` with the message `names: message` (the CLI's message, naming the Python
@@ -112,5 +113,6 @@ fn _rsts(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(check::check, m)?)?;
     m.add_function(wrap_pyfunction!(convergence::convergence, m)?)?;
+    m.add_function(wrap_pyfunction!(events::events, m)?)?;
     Ok(())
 }

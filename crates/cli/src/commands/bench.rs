@@ -25,6 +25,9 @@ mod plots;
 use rsts_harness::environment::Environment;
 use rsts_harness::proportionality::{fit_tolerances, ToleranceFit};
 
+use rsts_harness::bench::run_once;
+use rsts_harness::events::events_of_run;
+
 use crate::args::{case_error, count, finite_f64, CaseArgs, MethodParser, MAX_SAMPLES};
 use crate::external::{exec_integrator, TimeoutArgs};
 use crate::output::{self, Cell, Format, Tabular};
@@ -97,6 +100,14 @@ pub struct Args {
     /// Runs per method and tolerance (1 to 1000); the time reported is their median
     #[arg(long, value_name = "K", default_value = "3", value_parser = count)]
     pub repeats: usize,
+    /// Event NAME[:up|down|both] to locate (repeatable; docs/events.md): each row gets the events'
+    /// counts and time errors (built-ins: one more untimed run, events located in its samples
+    /// by Hermite interpolation; --exec: asked in the request)
+    #[arg(long = "event", value_name = "NAME[:DIR]")]
+    pub event: Vec<String>,
+    /// With --event: exit with status 1 when a row misses an event or a time error exceeds E
+    #[arg(long, value_name = "E", value_parser = finite_f64, requires = "event")]
+    pub max_event_error: Option<f64>,
     /// Write the work-precision diagram (max error against seconds, log-log) to this SVG file
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
@@ -193,6 +204,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     const { assert!(MAX_BENCH_SAMPLES <= MAX_SAMPLES) };
     let case = args.case();
     case.validate().map_err(case_error)?;
+    let specs = crate::commands::events::parse_specs(&args.event)?;
+    if let Some(e) = args.max_event_error {
+        if e < 0.0 {
+            bail!("--max-event-error: must be non-negative, got {e}");
+        }
+    }
+    if !methods_only_state_events(&args, &specs) {
+        bail!("--event: the built-in methods locate events of functions of the state (omega, alpha, beta, gamma), not the turning points s1, s2");
+    }
     if args.t_end <= 0.0 || args.samples < 2 {
         bail!("--t-end/--samples: a benchmark needs T > 0 and at least 2 samples");
     }
@@ -343,8 +363,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         let label = label_of(config.method, mp_digits);
         bar.set_message(format!("{label} at {:e}", config.tolerances.rtol));
         let reference = reference_at(reference_bits(config))?;
-        let row = measure_against(&reference, config, args.repeats)
+        let mut row = measure_against(&reference, config, args.repeats)
             .map_err(|e| anyhow!("{label} at tolerance {:e}: {e}", config.tolerances.rtol))?;
+        if !specs.is_empty() {
+            let mut once = *config;
+            let (times, states) = run_once(&reference, &mut once).map_err(|e| anyhow!("{e}"))?;
+            let ev = events_of_run(&case, &specs, None, &times, &states).map_err(case_error)?;
+            row.events = Some(ev.counts());
+        }
         rows.push(Labelled {
             row,
             label,
@@ -353,11 +379,36 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         tick(&bar);
     }
     for exec in &mut externals {
+        exec.events = specs
+            .iter()
+            .map(|s| {
+                (
+                    s.name.as_str().to_string(),
+                    s.direction.as_str().to_string(),
+                )
+            })
+            .collect();
         let tol = exec.tolerances.rtol;
         bar.set_message(format!("{} at {tol:e}", exec.name()));
         let reference = reference_at(reference_bits_for(exec.working_bits()))?;
-        let row = measure_integrator(&reference, exec, args.repeats)
+        let mut row = measure_integrator(&reference, exec, args.repeats)
             .map_err(|e| anyhow!("--exec at tolerance {tol:e}: {e}"))?;
+        if !specs.is_empty() {
+            let answered = exec.answered_events.clone();
+            let (times, states) = match answered {
+                Some(_) => (Vec::new(), Vec::new()),
+                None => run_once(&reference, exec).map_err(|e| anyhow!("{e}"))?,
+            };
+            let t_end = [case.t_end];
+            let times = if times.is_empty() {
+                t_end.to_vec()
+            } else {
+                times
+            };
+            let ev = events_of_run(&case, &specs, answered.as_deref(), &times, &states)
+                .map_err(case_error)?;
+            row.events = Some(ev.counts());
+        }
         rows.push(Labelled {
             label: row.method.clone(),
             row,
@@ -422,7 +473,25 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             }
         }
     }
+    if let Some(limit) = args.max_event_error {
+        for l in &rows {
+            if let Some(why) = l.row.events.and_then(|ev| ev.failure(limit)) {
+                out.flush()?;
+                return Err(crate::commands::validate::Failed(format!(
+                    "{} at tolerance {:e}: {why}",
+                    l.label, l.row.tolerance
+                ))
+                .into());
+            }
+        }
+    }
     Ok(())
+}
+
+/// False when a built-in method would have to locate s1 or s2.
+fn methods_only_state_events(args: &Args, specs: &[rsts_closed_form::events::EventSpec]) -> bool {
+    let builtins = args.methods.as_ref().is_some_and(|m| !m.is_empty()) || args.exec.is_empty();
+    !builtins || specs.iter().all(|s| s.name.index() < 12)
 }
 
 /// The optimistic step estimate of one run of `config` on `case` (its initial state from the
@@ -464,7 +533,8 @@ fn label_of(method: MethodName, mp_digits: u32) -> String {
 
 /// The rows as a table, rounded for reading (CSV and JSON carry the full precision).
 fn table(rows: &[Labelled]) -> Tabular {
-    let mut t = Tabular::new([
+    let with_events = rows.iter().any(|l| l.row.events.is_some());
+    let mut header = vec![
         "method",
         "tolerance",
         "max error",
@@ -473,10 +543,14 @@ fn table(rows: &[Labelled]) -> Tabular {
         "seconds (min..max)",
         "steps",
         "rhs evals",
-    ]);
+    ];
+    if with_events {
+        header.extend(["events missed", "max event error"]);
+    }
+    let mut t = Tabular::new(header);
     for l in rows {
         let r = &l.row;
-        t.push(vec![
+        let mut row = vec![
             Cell::Text(l.label.clone()),
             Cell::Text(format!("{:e}", r.tolerance)),
             Cell::Text(format!("{:.2e}", r.max_error)),
@@ -488,7 +562,18 @@ fn table(rows: &[Labelled]) -> Tabular {
             )),
             Cell::Int(r.steps),
             Cell::Int(r.rhs_evals),
-        ]);
+        ];
+        if with_events {
+            let ev = r.events.as_ref();
+            row.push(Cell::Text(
+                ev.map_or("-".into(), |e| format!("{} of {}", e.missed, e.exact)),
+            ));
+            row.push(Cell::Text(
+                ev.and_then(|e| e.max_time_error)
+                    .map_or("-".into(), |x| format!("{x:.2e}")),
+            ));
+        }
+        t.push(row);
     }
     t
 }

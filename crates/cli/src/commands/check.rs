@@ -9,6 +9,7 @@ use anyhow::{anyhow, bail, Context};
 use clap::Args as ClapArgs;
 use serde::Serialize;
 
+use rsts_harness::events::{exact_event_times, match_events, parse_detected, EventMatchReport};
 use rsts_harness::{CheckReport, CheckRequest, GivenMotion};
 
 use crate::args::{case_error, finite_f64, FieldArgs};
@@ -79,6 +80,16 @@ pub struct Args {
     /// Exit with status 1 when the max state error exceeds E
     #[arg(long, value_name = "E", value_parser = finite_f64)]
     pub max_error: Option<f64>,
+    /// Events the integrator detected: CSV with columns name and t, or JSON {"events": [{"name", "t"}]}, matched
+    /// with the exact events of the same names in (t_first, t_last] of the trajectory
+    #[arg(long, value_name = "EVENTS")]
+    pub events: Option<PathBuf>,
+    /// With --events: also expect events of NAME (repeatable; names in the file are expected anyway)
+    #[arg(long = "event", value_name = "NAME", requires = "events")]
+    pub event: Vec<String>,
+    /// With --events: exit with status 1 when an event is missed or a time error exceeds E
+    #[arg(long, value_name = "E", value_parser = finite_f64, requires = "events")]
+    pub max_event_error: Option<f64>,
     /// Write the comparison to this MCAP file (the layout of `rsts compare`; the file's trajectory
     /// is the integrated motion)
     #[arg(long, value_name = "FILE")]
@@ -135,6 +146,8 @@ struct Document<'a> {
     report: &'a CheckReport,
     #[serde(skip_serializing_if = "Option::is_none")]
     mcap: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    events: Option<EventMatchReport>,
 }
 
 /// Largest trajectory file read (its values are kept at their precision while they are checked).
@@ -207,6 +220,20 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if let Some(path) = &args.mcap {
         rsts_io::check_writable(path).with_context(|| format!("--mcap {}", path.display()))?;
     }
+    let detected = match &args.events {
+        None => None,
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("--events {}", path.display()))?;
+            Some(parse_detected(&text).map_err(|e| anyhow!("--events {}: {e}", path.display()))?)
+        }
+    };
+    let mut event_specs = crate::commands::events::parse_specs(&args.event)?;
+    if let Some(e) = args.max_event_error {
+        if e < 0.0 {
+            bail!("--max-event-error: must be non-negative, got {e}");
+        }
+    }
     let raw = read_input(&args)?;
     request.digits = match args.digits {
         Some(d) => d,
@@ -251,11 +278,35 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let log_stats = observer.finish()?;
     check_finite_report(&report.report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
+    let case = &report.case;
+    let events = match &detected {
+        None => None,
+        Some(found) => {
+            for d in found {
+                if !event_specs.iter().any(|s| s.name == d.name) {
+                    event_specs.push(rsts_closed_form::events::EventSpec {
+                        name: d.name,
+                        direction: Default::default(),
+                    });
+                }
+            }
+            let exact = exact_event_times(
+                (a, b, case.m, case.h),
+                case.torus,
+                (case.phase1, case.phase2),
+                &event_specs,
+                report.span.0,
+                report.span.1,
+            )
+            .map_err(|e| anyhow!("--events: {e}"))?;
+            Some(match_events(&exact, found))
+        }
+    };
     let doc = Document {
         report: &report,
         mcap: mcap.clone(),
+        events: events.clone(),
     };
-    let case = &report.case;
     match args.format {
         Format::Json => output::write_json(out, &doc)?,
         Format::Csv => output::write_records_csv(out, &[&doc])?,
@@ -290,6 +341,9 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 &format!("{t_first}, {t_last}"),
                 (a, b, case.m, case.h, case.torus),
             )?;
+            if let Some(ev) = &events {
+                writeln!(out, "events: {}", ev.summary())?;
+            }
         }
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {
@@ -307,6 +361,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             report.report.samples_compared, report.samples_given
         ))
         .into());
+    }
+    if let Some(why) = events
+        .as_ref()
+        .zip(args.max_event_error)
+        .and_then(|(ev, limit)| ev.counts.failure(limit))
+    {
+        out.flush()?;
+        return Err(Failed(format!("{}: {why}", args.file.display())).into());
     }
     if let Some(limit) = args.max_error {
         let e = report.report.max_state_error;

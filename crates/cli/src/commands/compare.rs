@@ -12,6 +12,7 @@ use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
+use rsts_harness::events::{events_of_run, EventMatchReport, StateCollector};
 use rsts_harness::{
     compare_integrator, preflight, Case, CompareOptions, Integrator, Observer, Report, SampleRecord,
 };
@@ -71,6 +72,14 @@ pub struct Args {
     /// (progress, Ctrl-C between pieces); 1: one uninterrupted run, as `rsts integrate` does
     #[arg(long, value_name = "N", default_value_t = rsts_harness::DEFAULT_PIECES)]
     pub pieces: usize,
+    /// Event NAME[:up|down|both] to locate (repeatable; docs/events.md): an --exec integrator is
+    /// asked for it in the request; a built-in method's events are located in its samples by
+    /// cubic Hermite interpolation. Matched with the exact events in the report
+    #[arg(long = "event", value_name = "NAME[:DIR]")]
+    pub event: Vec<String>,
+    /// With --event: exit with status 1 when an event is missed or a time error exceeds E
+    #[arg(long, value_name = "E", value_parser = finite_f64, requires = "event")]
+    pub max_event_error: Option<f64>,
     /// Write the comparison to this MCAP file (Foxglove schemas)
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
@@ -228,6 +237,8 @@ struct Document<'a> {
     report: &'a Report,
     #[serde(skip_serializing_if = "Option::is_none")]
     mcap: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    events: Option<EventMatchReport>,
 }
 
 /// Bytes an MCAP log takes per sample (measured: 2000 samples of the default case, 2.44 MB).
@@ -240,6 +251,12 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             "--samples: at most {MAX_SAMPLES} samples are supported, got {}",
             args.samples
         );
+    }
+    let specs = crate::commands::events::parse_specs(&args.event)?;
+    if let Some(e) = args.max_event_error {
+        if e < 0.0 {
+            bail!("--max-event-error: must be non-negative, got {e}");
+        }
     }
     let mut config = args.method.config()?;
     let mut external = None;
@@ -272,6 +289,25 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         )?;
         rsts_io::check_writable(path).with_context(|| format!("--mcap {}", path.display()))?;
     }
+    if external.is_none() {
+        if let Some(s) = specs.iter().find(|s| s.name.index() >= 12) {
+            bail!(
+                "--event {}: the built-in methods locate events of functions of the state (omega, alpha, beta, gamma); the turning points of s1, s2 need an --exec integrator that reports them",
+                s.name
+            );
+        }
+    }
+    if let Some(exec) = &mut external {
+        exec.events = specs
+            .iter()
+            .map(|s| {
+                (
+                    s.name.as_str().to_string(),
+                    s.direction.as_str().to_string(),
+                )
+            })
+            .collect();
+    }
     let integrator: &mut dyn Integrator = match &mut external {
         Some(exec) => exec,
         None => &mut config,
@@ -296,7 +332,9 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let options = CompareOptions {
         pieces: args.pieces,
     };
-    let result = compare_integrator(&case, integrator, &options, &mut observer);
+    let mut collector = StateCollector::new(&mut observer);
+    let result = compare_integrator(&case, integrator, &options, &mut collector);
+    let (times, states) = (collector.times, collector.states);
     let report = match result {
         Ok(r) => r,
         Err(e) if stop.load(Ordering::SeqCst) => {
@@ -308,12 +346,36 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         // A failed run discards its log: the temporary is removed, a previous file stays.
         Err(e) => return Err(case_error(e)),
     };
+    let events = if specs.is_empty() {
+        None
+    } else {
+        let answered = external.as_ref().and_then(|e| e.answered_events.clone());
+        Some(
+            events_of_run(&case, &specs, answered.as_deref(), &times, &states)
+                .map_err(case_error)?,
+        )
+    };
+    if let (Some(ev), Some(log)) = (&events, observer.log.as_mut()) {
+        let marks: Vec<rsts_mcap::EventMark> = ev
+            .per_event
+            .iter()
+            .map(|p| rsts_mcap::EventMark {
+                name: p.name.clone(),
+                t_exact: p.t_exact,
+                t_detected: p.t_detected,
+                time_error: p.time_error,
+            })
+            .collect();
+        log.log_events(&marks)
+            .map_err(|e| anyhow::anyhow!("--mcap: {}", rsts_io::error_text(&e)))?;
+    }
     let log_stats = observer.finish()?;
     check_finite_report(&report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     let doc = Document {
         report: &report,
         mcap: mcap.clone(),
+        events: events.clone(),
     };
     match args.format {
         Format::Json => output::write_json(out, &doc)?,
@@ -325,7 +387,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 &report,
                 &format!("0, {}", args.t_end),
                 (c.fields.a, c.fields.b, c.m, c.h, c.torus),
-            )?
+            )?;
+            if let Some(ev) = &events {
+                writeln!(out, "events: {}", ev.summary())?;
+            }
         }
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {
@@ -343,6 +408,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             report.samples_compared, args.samples
         ))
         .into());
+    }
+    if let Some(why) = events
+        .as_ref()
+        .zip(args.max_event_error)
+        .and_then(|(ev, limit)| ev.counts.failure(limit))
+    {
+        out.flush()?;
+        return Err(crate::commands::validate::Failed(format!("{}: {why}", report.method)).into());
     }
     Ok(())
 }

@@ -5,6 +5,7 @@ pub mod check;
 pub mod compare;
 pub mod convergence;
 pub mod diagram;
+pub mod events;
 pub mod explicit;
 pub mod identify;
 pub mod inspect;

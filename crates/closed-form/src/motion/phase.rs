@@ -127,6 +127,11 @@ impl PhaseClock {
         &self.u_dot
     }
 
+    /// u₀ and 4K of both variables.
+    pub(super) fn u0_four_k(&self) -> (&[Float; 2], &[Float; 2]) {
+        (&self.u0, &self.four_k)
+    }
+
     /// u at time t reduced to [0, 4K), in MPFR at the clock's precision.
     pub(super) fn reduced(&self, i: usize, t: &Float) -> Float {
         let u = Float::with_val(self.bits, &self.u_dot[i] * t) + &self.u0[i];

@@ -13,11 +13,12 @@ The Python face of the ``rsts`` command-line tool, built from the same Rust crat
 - ``rsts.check(times, states, a, b, ...)``: a trajectory you computed against the exact motion
   (``rsts check``);
 - ``rsts.convergence(methods, steps, case=None, ...)``: built-in methods at fixed steps and their
-  observed orders (``rsts convergence``).
+  observed orders (``rsts convergence``);
+- ``rsts.events(names, m, h, ...)``: exact event times along a motion (``rsts events``).
 
 Reports are the CLI's ``--format json`` documents, as dicts. See docs/python.md.
 """
 
-from ._rsts import METHODS, Case, __version__, check, compare, convergence, identify
+from ._rsts import METHODS, Case, __version__, check, compare, convergence, events, identify
 
-__all__ = ["Case", "METHODS", "check", "compare", "convergence", "identify", "__version__"]
+__all__ = ["Case", "METHODS", "check", "compare", "convergence", "events", "identify", "__version__"]

@@ -90,3 +90,21 @@ def convergence(
     digits: int = 40,
 ) -> Dict[str, Any]:
     """Built-in methods at fixed steps, their observed orders: `rsts convergence --format json`."""
+
+
+def events(
+    names: Sequence[str],
+    m: float = 0.3,
+    h: float = -0.375,
+    a: float = 1.0,
+    b: float = 0.5,
+    torus: int = 0,
+    phase1: float = 0.0,
+    phase2: float = 0.0,
+    t_start: float = 0.0,
+    t_end: float = 10.0,
+    digits: Optional[int] = None,
+) -> Dict[str, Any]:
+    """Exact event times in (t_start, t_end] (``rsts events --format json``): zeros of
+    omega1..beta3, gamma1..3 and turning points s1, s2, names optionally with ':up'/':down'."""
+    ...

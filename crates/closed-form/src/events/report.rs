@@ -1,0 +1,120 @@
+//! The serialisable report of `rsts events` (and of the Python package): the case and every
+//! exact event with its state, numbers as f64 or, at `digits`, as decimal strings.
+
+use rug::Float;
+use serde::Serialize;
+
+use super::{exact_events, working_bits, Crossing, EventSpec, ExactEvent};
+use crate::error::ClosedFormError;
+use crate::motion::{ExplicitMotion, TorusChoice};
+use rsts_dynamics::Real;
+
+/// A number of the report: f64 (correctly rounded from the working precision) or a decimal
+/// string of `digits` significant digits.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum Number {
+    F64(f64),
+    Decimal(String),
+}
+
+impl Number {
+    fn of(x: &Float, digits: Option<u32>) -> Self {
+        match digits {
+            None => Number::F64(x.to_f64()),
+            Some(d) => Number::Decimal(x.to_decimal(d)),
+        }
+    }
+    /// The value as f64 (for tables and matching).
+    pub fn to_f64(&self) -> f64 {
+        match self {
+            Number::F64(x) => *x,
+            Number::Decimal(s) => s.parse().unwrap_or(f64::NAN),
+        }
+    }
+}
+
+/// The motion and the window.
+#[derive(Clone, Debug, Serialize)]
+pub struct EventCase {
+    pub a: f64,
+    pub b: f64,
+    pub m: f64,
+    pub h: f64,
+    pub torus: usize,
+    pub phase1: f64,
+    pub phase2: f64,
+    pub t_start: f64,
+    pub t_end: f64,
+    /// Decimal digits of the times and states (`None`: f64).
+    pub digits: Option<u32>,
+    /// The camera of (m, h) (filled in by [`events_report`]).
+    pub camera: String,
+}
+
+/// (ω, α, β) at an event.
+#[derive(Clone, Debug, Serialize)]
+pub struct EventState {
+    pub omega: [Number; 3],
+    pub alpha: [Number; 3],
+    pub beta: [Number; 3],
+}
+
+/// One event of the report.
+#[derive(Clone, Debug, Serialize)]
+pub struct EventRecord {
+    pub name: String,
+    pub t: Number,
+    pub direction: Crossing,
+    pub state: EventState,
+}
+
+/// `{"case", "events": [...]}`.
+#[derive(Clone, Debug, Serialize)]
+pub struct EventsReport {
+    pub case: EventCase,
+    pub events: Vec<EventRecord>,
+}
+
+impl EventRecord {
+    fn new(e: &ExactEvent, digits: Option<u32>) -> Self {
+        let v = |o: usize| std::array::from_fn(|i| Number::of(&e.state[o + i], digits));
+        EventRecord {
+            name: e.name.as_str().to_string(),
+            t: Number::of(&e.t, digits),
+            direction: e.direction,
+            state: EventState {
+                omega: v(0),
+                alpha: v(3),
+                beta: v(6),
+            },
+        }
+    }
+}
+
+/// The exact events of `specs` along the motion of `case` in (t_start, t_end], at `case.digits`
+/// digits (plus guard bits) or correctly rounded to f64.
+pub fn events_report(
+    mut case: EventCase,
+    specs: &[EventSpec],
+) -> Result<EventsReport, ClosedFormError> {
+    let bits = working_bits(case.digits);
+    let choice = TorusChoice {
+        torus: case.torus,
+        phase1: case.phase1,
+        phase2: case.phase2,
+    };
+    let f = |x: f64| Float::with_val(bits, x);
+    let t_max = case.t_start.abs().max(case.t_end.abs());
+    let motion =
+        ExplicitMotion::new_until(f(case.a), f(case.b), f(case.m), f(case.h), choice, t_max)?;
+    case.camera = motion.camera.label().to_string();
+    let events = exact_events(&motion, specs, &f(case.t_start), &f(case.t_end))?;
+    Ok(EventsReport {
+        events: events
+            .iter()
+            .map(|e| EventRecord::new(e, case.digits))
+            .collect(),
+        case,
+    })
+}
