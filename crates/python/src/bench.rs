@@ -81,10 +81,7 @@ pub fn bench<'py>(
     repeats: i64,
     digits: Option<i64>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let case = match case {
-        Some(c) => c,
-        None => Case::checked(rsts_harness::Case::default_i_plus())?,
-    };
+    let case = Case::or_default(case)?;
     let samples = whole("samples", samples)?;
     let repeats = whole("repeats", repeats)?;
     let digits = digits

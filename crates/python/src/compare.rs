@@ -195,10 +195,7 @@ pub fn compare<'py>(
     atol: f64,
     digits: Option<i64>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let case = match case {
-        Some(c) => c,
-        None => Case::checked(rsts_harness::Case::default_i_plus())?,
-    };
+    let case = Case::or_default(case)?;
     let samples = whole("samples", samples)?;
     if samples > MAX_SAMPLES {
         return Err(value_error(
