@@ -69,7 +69,10 @@ impl BenchObserver for Watch {
 /// the CLI's message. The GIL is released while Rust works; Ctrl-C raises KeyboardInterrupt
 /// (between runs).
 #[pyfunction]
-#[pyo3(signature = (integrators, case = None, tolerances = vec![1e-6, 1e-8, 1e-10], t_end = 100.0, samples = 101, repeats = 3, digits = None))]
+#[pyo3(
+    signature = (integrators, case = None, tolerances = vec![1e-6, 1e-8, 1e-10], t_end = 100.0, samples = 101, repeats = 3, digits = None),
+    text_signature = "(integrators, case=None, tolerances=(1e-06, 1e-08, 1e-10), t_end=100.0, samples=101, repeats=3, digits=None)"
+)]
 #[allow(clippy::too_many_arguments)]
 pub fn bench<'py>(
     py: Python<'py>,
