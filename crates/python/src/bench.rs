@@ -157,7 +157,7 @@ pub fn bench<'py>(
             interrupts: Interrupts::new(),
             notes: Vec::new(),
         };
-        let result = rsts_harness::bench(request, &mut watch);
+        let result = rsts_harness::bench(request, &mut watch).map_err(rename);
         (Ok((result, watch.interrupts.take())), watch.notes)
     });
     let warnings = py.import("warnings")?;
@@ -165,24 +165,25 @@ pub fn bench<'py>(
         warnings.call_method1("warn", (note.trim_start_matches("note: "),))?;
     }
     let callable_error = callables.iter().find_map(|c| c.0.take_error());
-    let report = finish(result, callable_error).map_err(|e| rename(py, e))?;
+    let report = finish(result, callable_error)?;
     report_dict(py, &report)
 }
 
 /// The CLI's option names as this function's arguments (`methods` → `integrators`,
-/// `t-end` → `t_end`) in a ValueError.
-fn rename(py: Python<'_>, e: PyErr) -> PyErr {
-    if !e.is_instance_of::<pyo3::exceptions::PyValueError>(py) {
-        return e;
-    }
-    let text = e.value(py).to_string();
-    match text.split_once(": ") {
-        Some((names, rest)) if !names.contains(' ') => {
-            let names = names
-                .replace("methods", "integrators")
-                .replace("t-end", "t_end");
-            pyo3::exceptions::PyValueError::new_err(format!("{names}: {rest}"))
-        }
-        _ => e,
+/// `t-end` → `t_end`).
+fn rename(e: HarnessError) -> HarnessError {
+    match e {
+        HarnessError::Setting(names, message) => HarnessError::Setting(
+            names
+                .into_iter()
+                .map(|n| match n.as_str() {
+                    "methods" => "integrators".into(),
+                    "t-end" => "t_end".into(),
+                    _ => n,
+                })
+                .collect(),
+            message,
+        ),
+        e => e,
     }
 }
