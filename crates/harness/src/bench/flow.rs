@@ -43,6 +43,9 @@ pub trait BenchIntegrator: Integrator {
     }
 }
 
+/// A user's f64 [`Propagator`](rsts_dynamics::integrators::Propagator) in a benchmark.
+impl<P: rsts_dynamics::integrators::Propagator<f64>> BenchIntegrator for crate::Propagated<P> {}
+
 /// A method from outside the library (an `--exec` process, a Python callable), made for each
 /// tolerance of a benchmark.
 pub trait OutsideMethod {
@@ -434,6 +437,79 @@ pub fn label_of(method: MethodName, mp_digits: u32) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Propagated;
+    use rsts_dynamics::integrators::Rk4;
+
+    /// RK4 with a step from the tolerance (tol^(1/4), at least 0.01), as a user's integrator object.
+    struct MyRk4;
+
+    impl OutsideMethod for MyRk4 {
+        fn what(&self) -> String {
+            "my-rk4".into()
+        }
+
+        fn at(
+            &mut self,
+            tolerances: Tolerances,
+            _digits: u32,
+        ) -> Result<Box<dyn BenchIntegrator>, HarnessError> {
+            let step = tolerances.rtol.powf(0.25).max(0.01);
+            Ok(Box::new(
+                Propagated::new(Rk4::new(step))
+                    .named("my-rk4")
+                    .with_tolerances(tolerances),
+            ))
+        }
+    }
+
+    #[derive(Default)]
+    struct Notes(Vec<String>, usize);
+
+    impl BenchObserver for Notes {
+        fn note(&mut self, text: &str) {
+            self.0.push(text.into());
+        }
+        fn done(&mut self) {
+            self.1 += 1;
+        }
+    }
+
+    /// Built-ins first (each once), then the methods from outside made at each tolerance; a
+    /// tolerance below a built-in's round-off is a note, not a row.
+    #[test]
+    fn a_user_integrator_is_a_method_beside_the_builtins() {
+        let mut mine = MyRk4;
+        let request = BenchRequest {
+            case: Case {
+                t_end: 5.0,
+                samples: 6,
+                ..Case::default_i_plus()
+            },
+            methods: vec![
+                BenchMethod::Outside(&mut mine),
+                BenchMethod::BuiltIn(MethodName::Dop853),
+                BenchMethod::BuiltIn(MethodName::Dop853),
+            ],
+            tolerances: vec![1e-4, 1e-8, 1e-30],
+            repeats: 1,
+            digits: None,
+            events: Vec::new(),
+        };
+        let mut notes = Notes::default();
+        let report = bench(request, &mut notes).unwrap();
+        let methods: Vec<&str> = report.rows.iter().map(|r| r.method.as_str()).collect();
+        assert_eq!(methods, ["dop853", "dop853", "my-rk4", "my-rk4", "my-rk4"]);
+        assert_eq!(notes.1, 5, "one done per run");
+        assert_eq!(notes.0.len(), 1, "{:?}", notes.0);
+        assert!(notes.0[0].starts_with("note: skipping dop853 at tolerance 1e-30"));
+        assert!(report.labels[2].external && !report.labels[1].external);
+        let rk4: Vec<f64> = report.rows[2..].iter().map(|r| r.max_error).collect();
+        assert!(rk4[1] < 1e-3 * rk4[0], "{rk4:?}");
+        assert_eq!(report.rows[2].steps, 50, "step 0.1 over T = 5");
+        assert_eq!(report.rows[2].rhs_evals, 200, "4 evaluations a step");
+        assert_eq!(report.fits.len(), 2);
+        assert_eq!(report.taylor_mp_digits, None);
+    }
 
     #[test]
     fn default_digits_cover_the_smallest_tolerance() {
