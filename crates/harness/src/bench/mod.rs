@@ -8,6 +8,14 @@
 //! [`reference_bits_for`] the integrator's precision (64 bits beyond it), and reused across
 //! repeats, tolerances and integrators.
 
+pub mod diagrams;
+mod flow;
+
+pub use flow::{
+    bench, default_mp_digits, label_of, BenchIntegrator, BenchMethod, BenchObserver, BenchReport,
+    BenchRequest, OutsideMethod, Quiet, RowLabel, MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
+};
+
 use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Tolerances};
 use rsts_dynamics::{Fields, State};
 use rug::Float;
