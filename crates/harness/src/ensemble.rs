@@ -1,7 +1,8 @@
 //! Ensembles of motions (`rsts bench --ensemble N`, issue 18): N motions drawn from the cameras
 //! asked — a point (m, h) well inside the camera, a torus and two phases — reproducible from a
-//! seed, each measured exactly as `rsts compare … --pieces 1` runs it, and per method and
-//! tolerance the median and the 5–95 % band of the error and of the time over the motions.
+//! seed, each measured exactly as `rsts compare … --pieces 1` runs it
+//! ([`crate::bench::bench_ensemble`]), and per method and tolerance the median and the 5–95 %
+//! band of the error and of the time over the motions ([`bands`], [`percentile`]).
 //!
 //! Drawing (docs/benchmarks.md): motion k belongs to camera `cameras[k mod len]`. The window
 //! of the bifurcation diagram ([`default_window`]) is cut into a [`RASTER`] × [`RASTER`] grid of
@@ -16,15 +17,8 @@ use rsts_closed_form::diagram::{camera_at, default_window, Window};
 use rsts_closed_form::{Camera, ExplicitMotion, TorusChoice};
 use serde::{Deserialize, Serialize};
 
-use rsts_dynamics::integrators::{OutputGrid, Problem};
-use rug::Float;
-
-use crate::bench::{measure_integrator, BenchRow, Reference};
+use crate::bench::BenchRow;
 use crate::case::Case;
-use crate::compare::reference_bits_for;
-use crate::integrator::Integrator;
-use crate::metrics::exact_state;
-use crate::HarnessError;
 
 /// Most motions of an ensemble.
 pub const MAX_MOTIONS: usize = 1000;
@@ -35,7 +29,7 @@ pub const RASTER: usize = 200;
 /// Finer rasters tried for a camera too thin for the first.
 pub const ZOOMS: usize = 3;
 
-/// Why an ensemble cannot be drawn; [`EnsembleError::option`] names the option concerned.
+/// Why an ensemble cannot be drawn; [`EnsembleError::parameters`] names the settings concerned.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum EnsembleError {
     #[error("{0}")]
@@ -47,12 +41,12 @@ pub enum EnsembleError {
 }
 
 impl EnsembleError {
-    /// The option of `rsts bench` the error concerns.
-    pub fn option(&self) -> &'static str {
+    /// The settings the error concerns (options of `rsts bench` without their dashes).
+    pub fn parameters(&self) -> &'static [&'static str] {
         match self {
-            EnsembleError::Count(_) => "--ensemble",
-            EnsembleError::Cameras(_) => "--cameras",
-            EnsembleError::Fields(_) => "--a/--b",
+            EnsembleError::Count(_) => &["ensemble"],
+            EnsembleError::Cameras(_) => &["cameras"],
+            EnsembleError::Fields(_) => &["a", "b"],
         }
     }
 }
@@ -90,15 +84,6 @@ impl Ensemble {
             ..base.clone()
         }
     }
-}
-
-/// One bench row of one motion (`rows` of `rsts bench --ensemble`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct EnsembleRow {
-    /// Index of the motion in `ensemble.motions`.
-    pub motion: usize,
-    #[serde(flatten)]
-    pub row: BenchRow,
 }
 
 /// Per method and tolerance, the spread over the motions (`bands` in the JSON).
@@ -335,10 +320,10 @@ pub fn percentile(values: &[f64], p: f64) -> f64 {
 }
 
 /// The bands of `rows`: one per method and tolerance, in the order they first appear.
-pub fn bands(rows: &[EnsembleRow]) -> Vec<Band> {
+pub fn bands(rows: &[BenchRow]) -> Vec<Band> {
     let mut keys: Vec<(String, u64)> = Vec::new();
     for r in rows {
-        let key = (r.row.method.clone(), r.row.tolerance.to_bits());
+        let key = (r.method.clone(), r.tolerance.to_bits());
         if !keys.contains(&key) {
             keys.push(key);
         }
@@ -347,7 +332,6 @@ pub fn bands(rows: &[EnsembleRow]) -> Vec<Band> {
         .map(|(method, tol)| {
             let of: Vec<&BenchRow> = rows
                 .iter()
-                .map(|r| &r.row)
                 .filter(|r| r.method == method && r.tolerance.to_bits() == tol)
                 .collect();
             let errors: Vec<f64> = of.iter().map(|r| r.max_error).collect();
@@ -365,64 +349,6 @@ pub fn bands(rows: &[EnsembleRow]) -> Vec<Band> {
             }
         })
         .collect()
-}
-
-/// Check that every integrator's step budget covers every motion (before any run), then
-/// measure each integrator on each motion as [`crate::bench::measure_integrator`] does — one
-/// uninterrupted call over the whole grid from the exact state at t = 0, the trajectory of
-/// `rsts compare … --pieces 1` — with `repeats` timed runs. `done(k)` is called after motion
-/// k. Rows: motion by motion, the integrators in the order given.
-pub fn measure_ensemble(
-    base: &Case,
-    ensemble: &Ensemble,
-    integrators: &mut [&mut dyn Integrator],
-    repeats: usize,
-    mut done: impl FnMut(usize),
-) -> Result<Vec<EnsembleRow>, HarnessError> {
-    let grid = OutputGrid::new(base.t_end, base.samples)?;
-    for k in 0..ensemble.motions.len() {
-        let case = ensemble.case(base, k);
-        let (motion, fields) = case.reference_motion(64)?;
-        let problem = Problem {
-            fields,
-            initial: exact_state(&motion.at(&Float::with_val(64, 0.0))),
-        };
-        for integrator in integrators.iter() {
-            integrator
-                .check_budget(&problem, &grid)
-                .map_err(|e| in_motion(ensemble, k, e))?;
-        }
-    }
-    let mut rows = Vec::new();
-    for k in 0..ensemble.motions.len() {
-        let case = ensemble.case(base, k);
-        let mut references: Vec<Reference> = Vec::new();
-        for integrator in integrators.iter_mut() {
-            let bits = reference_bits_for(integrator.working_bits());
-            let reference = match references.iter().position(|r| r.bits() == bits) {
-                Some(i) => &references[i],
-                None => {
-                    let r = Reference::new(&case, bits).map_err(|e| in_motion(ensemble, k, e))?;
-                    references.push(r);
-                    references.last().expect("just pushed")
-                }
-            };
-            let row = measure_integrator(reference, &mut **integrator, repeats)
-                .map_err(|e| in_motion(ensemble, k, e))?;
-            rows.push(EnsembleRow { motion: k, row });
-        }
-        done(k);
-    }
-    Ok(rows)
-}
-
-/// An error of motion `k`, naming it.
-fn in_motion(ensemble: &Ensemble, k: usize, e: HarnessError) -> HarnessError {
-    let mo = &ensemble.motions[k];
-    HarnessError::Integrator(format!(
-        "ensemble motion {k} (camera {}, m = {}, h = {}, torus {}, phases {}, {}): {e}",
-        mo.camera, mo.m, mo.h, mo.torus, mo.phase1, mo.phase2
-    ))
 }
 
 #[cfg(test)]

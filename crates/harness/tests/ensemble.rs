@@ -5,10 +5,11 @@
 use rsts_closed_form::diagram::camera_at;
 use rsts_closed_form::{Camera, ExplicitMotion, TorusChoice};
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances};
-use rsts_harness::ensemble::{
-    bands, draw_ensemble, measure_ensemble, percentile, EnsembleError, SplitMix64, MAX_MOTIONS,
+use rsts_harness::bench::{bench_ensemble, EnsemblePlan, Quiet};
+use rsts_harness::ensemble::{draw_ensemble, percentile, EnsembleError, SplitMix64, MAX_MOTIONS};
+use rsts_harness::{
+    compare_integrator, BenchMethod, BenchRequest, Case, CompareOptions, NoObserver,
 };
-use rsts_harness::{compare_integrator, Case, CompareOptions, Integrator, NoObserver};
 
 fn camera(label: &str) -> Camera {
     label.parse().unwrap()
@@ -46,8 +47,8 @@ fn motions_lie_in_their_cameras_on_existing_tori_and_repeat_with_the_seed() {
 #[test]
 fn bad_ensembles_are_refused_naming_the_option() {
     let count = |n| draw_ensemble(1.0, 0.5, &[], n, 1).unwrap_err();
-    assert_eq!(count(0).option(), "--ensemble");
-    assert_eq!(count(MAX_MOTIONS + 1).option(), "--ensemble");
+    assert_eq!(count(0).parameters(), ["ensemble"]);
+    assert_eq!(count(MAX_MOTIONS + 1).parameters(), ["ensemble"]);
     assert!(draw_ensemble(1.0, 0.5, &[], MAX_MOTIONS, 1).is_ok());
     let twice = draw_ensemble(1.0, 0.5, &[Camera::V, Camera::V], 2, 1).unwrap_err();
     assert_eq!(
@@ -56,12 +57,12 @@ fn bad_ensembles_are_refused_naming_the_option() {
     );
     // For b ≪ a camera I+ is a sliver along Σ: no point keeps a cell's width from it.
     let none = draw_ensemble(1.0, 0.01, &[camera("I+"), camera("IV+")], 2, 1).unwrap_err();
-    assert_eq!(none.option(), "--cameras");
+    assert_eq!(none.parameters(), ["cameras"]);
     assert!(none.to_string().contains("camera I+ "), "{none}");
     assert!(!none.to_string().contains("IV+"), "{none}");
     assert_eq!(
-        draw_ensemble(1.0, 0.0, &[], 2, 1).unwrap_err().option(),
-        "--a/--b"
+        draw_ensemble(1.0, 0.0, &[], 2, 1).unwrap_err().parameters(),
+        ["a", "b"]
     );
 }
 
@@ -83,7 +84,7 @@ fn percentiles_at_exact_ranks_are_order_statistics() {
 
 /// Every row of the ensemble is the comparison of its motion in one piece: the same error to
 /// the bit, the same steps and evaluations; the bands summarise the rows per method and
-/// tolerance.
+/// tolerance (type-7 percentiles of three values, worked by hand).
 #[test]
 fn each_motion_is_measured_as_a_comparison_in_one_piece() {
     let base = Case {
@@ -91,61 +92,91 @@ fn each_motion_is_measured_as_a_comparison_in_one_piece() {
         samples: 7,
         ..Case::default_i_plus()
     };
-    let e = draw_ensemble(1.0, 0.5, &[Camera::IPlus, Camera::V, Camera::III], 3, 11).unwrap();
-    let cfg = |m, tol| MethodConfig::new(m, Tolerances::new(tol, tol).unwrap(), None).unwrap();
-    let mut a = cfg(MethodName::Dop853, 1e-9);
-    let mut b = cfg(MethodName::TaylorF64, 1e-12);
-    let mut c = cfg(MethodName::TaylorDd, 1e-20);
-    let mut done = Vec::new();
-    let rows = {
-        let mut integrators: Vec<&mut dyn Integrator> = vec![&mut a, &mut b, &mut c];
-        measure_ensemble(&base, &e, &mut integrators, 1, |k| done.push(k)).unwrap()
+    let plan = EnsemblePlan {
+        n: 3,
+        seed: 11,
+        cameras: vec![Camera::IPlus, Camera::V, Camera::III],
     };
-    assert_eq!(done, [0, 1, 2]);
-    assert_eq!(rows.len(), 9);
-    for r in &rows {
-        let case = e.case(&base, r.motion);
-        let mut m = match r.row.method.as_str() {
-            "dop853" => a,
-            "taylor-f64" => b,
-            _ => c,
-        };
+    let request = BenchRequest {
+        case: base.clone(),
+        methods: [
+            MethodName::Dop853,
+            MethodName::TaylorF64,
+            MethodName::TaylorDd,
+        ]
+        .map(BenchMethod::BuiltIn)
+        .into(),
+        tolerances: vec![1e-9, 1e-20],
+        repeats: 1,
+        digits: None,
+        events: Vec::new(),
+    };
+    let report = bench_ensemble(request, &plan, &mut Quiet).unwrap();
+    let e = report.ensemble.as_ref().unwrap();
+    assert_eq!(e, &draw_ensemble(1.0, 0.5, &plan.cameras, 3, 11).unwrap());
+    // dop853 and taylor-f64 skip 1e-20 (below their round-off): 4 runs per motion.
+    assert_eq!(report.rows.len(), 12);
+    for r in &report.rows {
+        let k = r.motion.expect("every row names its motion");
+        let case = e.case(&base, k);
+        let method = r.method.parse::<MethodName>().unwrap();
+        let tol = Tolerances::new(r.tolerance, r.tolerance).unwrap();
+        let mut config = MethodConfig::new(method, tol, None).unwrap();
         let report = compare_integrator(
             &case,
-            &mut m,
+            &mut config,
             &CompareOptions { pieces: 1 },
             &mut NoObserver,
         )
         .unwrap();
         assert_eq!(
-            r.row.max_error.to_bits(),
+            r.max_error.to_bits(),
             report.max_state_error.to_bits(),
-            "motion {} {}: {:e} against {:e}",
-            r.motion,
-            r.row.method,
-            r.row.max_error,
+            "motion {k} {} at {:e}: {:e} against {:e}",
+            r.method,
+            r.tolerance,
+            r.max_error,
             report.max_state_error
         );
-        assert!(r.row.max_error > 0.0);
-        assert_eq!(r.row.steps, report.steps);
-        assert_eq!(r.row.rhs_evals, report.rhs_evals);
+        assert!(r.max_error > 0.0);
+        assert_eq!(r.steps, report.steps);
+        assert_eq!(r.rhs_evals, report.rhs_evals);
     }
-    let bands = bands(&rows);
-    assert_eq!(bands.len(), 3);
-    for band in &bands {
-        let mut errors: Vec<f64> = rows
+    assert_eq!(report.bands.len(), 4);
+    for band in &report.bands {
+        let of: Vec<_> = report
+            .rows
             .iter()
-            .filter(|r| r.row.method == band.method)
-            .map(|r| r.row.max_error)
+            .filter(|r| r.method == band.method && r.tolerance == band.tolerance)
             .collect();
+        let mut errors: Vec<f64> = of.iter().map(|r| r.max_error).collect();
         errors.sort_by(f64::total_cmp);
         assert_eq!(band.motions, 3);
         assert_eq!(band.error_median, errors[1]);
-        // Linear interpolation at r = 0.1 and r = 1.9 of three sorted values.
+        // r = 0.05·2 = 0.1 and r = 0.95·2 = 1.9 between the three sorted values.
         let p05 = errors[0] + 0.1 * (errors[1] - errors[0]);
         let p95 = errors[1] + 0.9 * (errors[2] - errors[1]);
         assert!((band.error_p05 - p05).abs() <= 1e-15 * p05, "{band:?}");
         assert!((band.error_p95 - p95).abs() <= 1e-15 * p95, "{band:?}");
-        assert!(band.time_p05 <= band.time_median && band.time_median <= band.time_p95);
+        let mut times: Vec<f64> = of.iter().map(|r| r.integration_seconds).collect();
+        times.sort_by(f64::total_cmp);
+        assert_eq!(band.time_median, times[1]);
+    }
+    let json = serde_json::to_value(&report).unwrap();
+    assert_eq!(json["ensemble"]["n"], 3);
+    assert_eq!(json["ensemble"]["seed"], 11);
+    assert_eq!(json["rows"][4]["motion"], 1);
+    for key in ["m", "h", "torus", "phase1", "phase2", "camera"] {
+        assert!(json["ensemble"]["motions"][0].get(key).is_some(), "{key}");
+    }
+    for key in [
+        "method",
+        "tolerance",
+        "error_p05",
+        "error_median",
+        "error_p95",
+        "time_median",
+    ] {
+        assert!(json["bands"][0].get(key).is_some(), "{key}");
     }
 }
