@@ -377,6 +377,7 @@ fn run(
         .collect();
     let mut rows: Vec<BenchRow> = Vec::new();
     let mut labels: Vec<RowLabel> = Vec::new();
+    let mut environment = Environment::detect();
     for (k, case) in cases.iter().enumerate() {
         // One reference per precision and motion.
         let mut references: BTreeMap<u32, Reference> = BTreeMap::new();
@@ -443,6 +444,7 @@ fn run(
                         row.events = Some(ev.counts());
                     }
                     row.motion = motion;
+                    environment.record(integrator.as_ref());
                     labels.push(RowLabel {
                         label: row.method.clone(),
                         external: true,
@@ -479,7 +481,7 @@ fn run(
         ensemble,
         rows,
         fits,
-        environment: Environment::detect(),
+        environment,
         labels,
     })
 }
