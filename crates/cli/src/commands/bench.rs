@@ -288,14 +288,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             )?;
             writeln!(out, "{}", report.environment.describe())?;
             output::write_table(out, &table(&report))?;
-            for f in &report.fits {
-                writeln!(
-                    out,
-                    "fit {}: {}",
-                    report.label_of_method(&f.method),
-                    f.describe()
-                )?;
-            }
+            write_fits(out, &report, "")?;
         }
     }
     if let Some(limit) = args.max_event_error {
@@ -309,6 +302,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 .into());
             }
         }
+    }
+    Ok(())
+}
+
+/// A line `fit METHOD{qualifier}: …` per tolerance fit.
+fn write_fits(out: &mut dyn Write, report: &BenchReport, qualifier: &str) -> anyhow::Result<()> {
+    for f in &report.fits {
+        let label = report.label_of_method(&f.method);
+        writeln!(out, "fit {label}{qualifier}: {}", f.describe())?;
     }
     Ok(())
 }

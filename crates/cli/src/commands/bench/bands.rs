@@ -43,14 +43,7 @@ pub(super) fn write_table(out: &mut dyn Write, report: &BenchReport) -> anyhow::
         ]);
     }
     output::write_table(out, &t)?;
-    for f in &report.fits {
-        writeln!(
-            out,
-            "fit {} (all motions): {}",
-            report.label_of_method(&f.method),
-            f.describe()
-        )?;
-    }
+    super::write_fits(out, report, " (all motions)")?;
     writeln!(out)?;
     let mut m = Tabular::new(vec![
         "motion", "camera", "m", "h", "torus", "phase1", "phase2",
