@@ -27,6 +27,7 @@ mod compare;
 pub mod convergence;
 pub mod digits;
 pub mod drift_growth;
+pub mod ensemble;
 pub mod environment;
 pub mod events;
 pub mod geometry;
