@@ -37,6 +37,7 @@ pub mod integrator;
 mod metrics;
 pub mod proportionality;
 pub mod reference;
+pub mod rounded_explicit;
 pub mod rounded_reference;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
