@@ -11,6 +11,7 @@ use rug::Float;
 
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Problem, Stats, Tolerances};
 use rsts_dynamics::State;
+use rsts_harness::environment::Environment;
 use rsts_harness::{
     check_finite_report, check_times, compare_integrator, preflight, CompareOptions, HarnessError,
     Integrator, Observer, Report, SampleRecord, Trajectory, MAX_SAMPLES,
@@ -247,7 +248,21 @@ pub fn compare<'py>(
     let report: Report = finish(result, chosen_error(&mut chosen))?;
     // A report with a non-finite figure is an error, as in the CLI.
     check_finite_report(&report).map_err(harness_error)?;
-    report_dict(py, &report)
+    report_dict(
+        py,
+        &Timed {
+            report: &report,
+            environment: Environment::detect(),
+        },
+    )
+}
+
+/// The report with where its time was taken, as `rsts compare --format json` prints it.
+#[derive(serde::Serialize)]
+struct Timed<'a> {
+    #[serde(flatten)]
+    report: &'a Report,
+    environment: Environment,
 }
 
 fn chosen_error(chosen: &mut Chosen) -> Option<PyErr> {

@@ -12,6 +12,7 @@ use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
+use rsts_harness::environment::Environment;
 use rsts_harness::events::{events_of_run, EventMatchReport, StateCollector};
 use rsts_harness::{
     compare_integrator, preflight, Case, CompareOptions, Integrator, Observer, Report, SampleRecord,
@@ -232,6 +233,9 @@ struct Document<'a> {
     mcap: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     events: Option<EventMatchReport>,
+    /// Where it ran (the report carries a time): CPU, SIMD path, cores, OS, rsts version and
+    /// commit, an --exec integrator's library version.
+    environment: Environment,
 }
 
 /// Bytes an MCAP log takes per sample (measured: 2000 samples of the default case, 2.44 MB).
@@ -365,10 +369,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let log_stats = observer.finish()?;
     check_finite_report(&report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
+    let mut environment = Environment::detect();
+    if let Some(exec) = &external {
+        environment.record(exec);
+    }
     let doc = Document {
         report: &report,
         mcap: mcap.clone(),
         events: events.clone(),
+        environment,
     };
     match args.format {
         Format::Json => output::write_json(out, &doc)?,
@@ -384,6 +393,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             if let Some(ev) = &events {
                 writeln!(out, "events: {}", ev.summary())?;
             }
+            writeln!(out, "{:<26}{}", "environment:", doc.environment.describe())?;
         }
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {

@@ -8,12 +8,14 @@
 //! [`reference_bits_for`] the integrator's precision (64 bits beyond it), and reused across
 //! repeats, tolerances and integrators.
 
+mod band_diagram;
 pub mod diagrams;
 mod flow;
 
 pub use flow::{
-    bench, default_mp_digits, label_of, BenchIntegrator, BenchMethod, BenchObserver, BenchReport,
-    BenchRequest, OutsideMethod, Quiet, RowLabel, MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
+    bench, bench_ensemble, default_mp_digits, label_of, BenchIntegrator, BenchMethod,
+    BenchObserver, BenchReport, BenchRequest, EnsemblePlan, OutsideMethod, Quiet, RowLabel,
+    MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
 };
 
 use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Tolerances};
@@ -31,6 +33,9 @@ use crate::HarnessError;
 /// One line of a work–precision table: the JSON row of `rsts bench`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BenchRow {
+    /// The motion of an ensemble the row measures (its index in `ensemble.motions`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<usize>,
     pub method: String,
     pub tolerance: f64,
     /// max over samples and the nine components (ω, α, β) of |x − x_exact|.
@@ -257,6 +262,7 @@ fn summarize(
     }
     let traj = first.ok_or_else(|| HarnessError::Case("repeats must be at least 1".into()))?;
     Ok(BenchRow {
+        motion: None,
         method: String::new(),
         tolerance: f64::NAN,
         max_error: max_state_error(&reference.states, &traj.states)?,
