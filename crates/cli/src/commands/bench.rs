@@ -5,9 +5,9 @@
 //! scripts/adapters/heyoka_adapter.py) are measured the same way and drawn dashed beside ours.
 //! The flow is [`rsts_harness::bench()`]; this parses, calls and formats.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context};
 use clap::Args as ClapArgs;
@@ -186,14 +186,7 @@ impl BenchObserver for Progress {
     }
 
     fn done(&mut self) {
-        if !self.shown
-            && self.started.elapsed() > Duration::from_secs(1)
-            && std::io::stderr().is_terminal()
-        {
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
-            self.shown = true;
-        }
-        self.bar.inc(1);
+        output::tick_progress(&self.bar, self.started, &mut self.shown);
     }
 }
 

@@ -1,11 +1,11 @@
 //! `rsts compare`: integrate from the closed-form state at t = 0 and compare with the closed form
 //! along the motion; report errors, drifts and cost; optionally log everything to MCAP.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use anyhow::{bail, Context};
 use clap::Args as ClapArgs;
@@ -200,14 +200,7 @@ impl Observer for CliObserver {
             .map_err(|e| format!("writing the MCAP file: {}", rsts_io::error_text(&e)))?;
         }
         // Show the bar only for runs longer than a second, and only on a terminal.
-        if !self.shown
-            && self.started.elapsed() > Duration::from_secs(1)
-            && std::io::stderr().is_terminal()
-        {
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
-            self.shown = true;
-        }
-        self.bar.inc(1);
+        output::tick_progress(&self.bar, self.started, &mut self.shown);
         Ok(())
     }
 
