@@ -25,6 +25,7 @@ mod case;
 pub mod check;
 mod compare;
 pub mod convergence;
+pub mod dense;
 pub mod digits;
 pub mod drift_growth;
 pub mod environment;
