@@ -129,3 +129,53 @@ fn bad_dense_input_exits_2_with_a_message() {
         "{err}"
     );
 }
+
+/// `bench --dense K`: every row carries the dense check (JSON fields, table columns); the
+/// adapter's chord shows up in its rows only; a method without the check exits 2.
+#[test]
+fn bench_rows_carry_the_dense_check() {
+    let rk4 = adapter_rk4();
+    let linear = format!("{} --interpolant linear", rk4.display());
+    let args = [
+        "--methods",
+        "dopri5",
+        "--exec",
+        &linear,
+        "--tolerances",
+        "1e-6,1e-8",
+        "--t-end",
+        "5",
+        "--samples",
+        "51",
+        "--repeats",
+        "1",
+        "--dense",
+        "2",
+    ];
+    let out = rsts_command("bench", &[&args[..], &["--format", "json"]].concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = doc["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 4, "{doc}");
+    for row in rows {
+        assert_eq!(row["dense"], 2, "{row}");
+        let (dense, step) = errors(row);
+        match row["method"].as_str().unwrap() {
+            "dopri5" => assert!(dense < 30.0 * step, "{row}"),
+            "example-rk4-linear" => assert!(dense > 1000.0 * step, "{row}"),
+            other => panic!("unexpected row {other}"),
+        }
+    }
+    let table = rsts_command("bench", &args);
+    let text = String::from_utf8(table.stdout).unwrap();
+    assert!(text.contains("dense max error"), "{text}");
+    let bad = rsts_command(
+        "bench",
+        &["--methods", "taylor-dd", "--dense", "2", "--t-end", "5"],
+    );
+    assert!(exit_2(&bad, "bench taylor-dd").contains("the dense check of taylor-dd"));
+}

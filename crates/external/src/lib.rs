@@ -11,6 +11,7 @@
 //! Integrators written in Rust do not need this crate: implement
 //! [`rsts_dynamics::integrators::Propagator`] and wrap it in [`rsts_harness::Propagated`].
 
+mod bench;
 pub mod dense;
 pub mod exec;
 pub mod files;

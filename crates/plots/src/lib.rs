@@ -86,6 +86,28 @@ pub struct Chart {
     pub height: u32,
 }
 
+impl Chart {
+    /// A log–log chart of the reports' size (820×540): work–precision, tolerance
+    /// proportionality, observed order.
+    pub fn log_log(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+        series: Vec<Series>,
+    ) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            x_scale: Scale::Log10,
+            y_scale: Scale::Log10,
+            series,
+            width: 820,
+            height: 540,
+        }
+    }
+}
+
 impl Default for Chart {
     fn default() -> Self {
         Self {
