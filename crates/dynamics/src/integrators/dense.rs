@@ -57,6 +57,15 @@ impl StepSamples {
         self.step_times.len().saturating_sub(1)
     }
 
+    /// The samples of a run from `y0` at t = 0 before its first step (K checked).
+    pub fn start(k: usize, y0: [f64; DIM]) -> Result<Self, DynamicsError> {
+        check_dense(k)?;
+        let mut out = Self::default();
+        out.step_times.push(0.0);
+        out.push(0.0, y0, true);
+        Ok(out)
+    }
+
     /// Add a sample.
     pub fn push(&mut self, t: f64, y: [f64; DIM], at_step_end: bool) {
         self.times.push(t);

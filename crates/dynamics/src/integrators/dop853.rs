@@ -9,7 +9,7 @@ dormand_prince_method! {
     beta = 0.0, fac_min = 0.333, fac_max = 6.0
 }
 
-use super::dense::{check_dense, too_many, StepSamples, MAX_DENSE_SAMPLES};
+use super::dense::{too_many, StepSamples, MAX_DENSE_SAMPLES};
 use super::ode_solvers_adapter as adapter;
 use super::{OutputGrid, Problem};
 use crate::equations::VectorField;
@@ -27,14 +27,10 @@ impl Dop853 {
         grid: &OutputGrid,
         k: usize,
     ) -> Result<StepSamples, DynamicsError> {
-        check_dense(k)?;
-        let mut out = StepSamples::default();
-        out.step_times.push(0.0);
-        out.push(0.0, problem.initial.to_array(), true);
-        let scale = grid.spacing();
-        if grid.samples <= 1 || grid.t_end == 0.0 || scale < adapter::TINY_SPACING {
+        let mut out = StepSamples::start(k, problem.initial.to_array())?;
+        let Some(scale) = adapter::dense_scale(grid) else {
             return Ok(out);
-        }
+        };
         let field = VectorField::new(&problem.fields);
         let fail = |e| adapter::solver_error(Self::NAME, e, scale);
         let sparse = ode_solvers::OutputType::Sparse;

@@ -11,7 +11,7 @@ dormand_prince_method! {
 
 use ode_solvers::continuous_output_model::ContinuousOutputModel;
 
-use super::dense::{check_dense, interior_times, StepSamples};
+use super::dense::{interior_times, StepSamples};
 use super::ode_solvers_adapter::{self as adapter, Vector9};
 use super::{OutputGrid, Problem};
 use crate::equations::VectorField;
@@ -27,14 +27,10 @@ impl Dopri5 {
         grid: &OutputGrid,
         k: usize,
     ) -> Result<StepSamples, DynamicsError> {
-        check_dense(k)?;
-        let mut out = StepSamples::default();
-        out.step_times.push(0.0);
-        out.push(0.0, problem.initial.to_array(), true);
-        let scale = grid.spacing();
-        if grid.samples <= 1 || grid.t_end == 0.0 || scale < adapter::TINY_SPACING {
+        let mut out = StepSamples::start(k, problem.initial.to_array())?;
+        let Some(scale) = adapter::dense_scale(grid) else {
             return Ok(out);
-        }
+        };
         let field = VectorField::new(&problem.fields);
         let mut solver = self.solver(
             field,

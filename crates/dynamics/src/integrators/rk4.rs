@@ -14,9 +14,7 @@ use crate::equations::VectorField;
 use crate::error::DynamicsError;
 use crate::state::{State, DIM};
 
-use super::dense::{
-    check_dense, hermite, interior_times, too_many, StepSamples, MAX_DENSE_SAMPLES,
-};
+use super::dense::{hermite, interior_times, too_many, StepSamples, MAX_DENSE_SAMPLES};
 use super::ode_solvers_adapter::{initial_only, non_finite_at};
 use super::{OutputGrid, Problem, Propagator, Solution, Stats, Tolerances, MAX_STEPS};
 
@@ -135,10 +133,7 @@ impl Rk4 {
         grid: &OutputGrid,
         k: usize,
     ) -> Result<StepSamples, DynamicsError> {
-        check_dense(k)?;
-        let mut out = StepSamples::default();
-        out.step_times.push(0.0);
-        out.push(0.0, problem.initial.to_array(), true);
+        let mut out = StepSamples::start(k, problem.initial.to_array())?;
         if grid.samples <= 1 || grid.t_end == 0.0 {
             return Ok(out);
         }
