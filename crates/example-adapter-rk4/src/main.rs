@@ -312,6 +312,7 @@ fn run() -> Result<Value, String> {
             tableau.name,
             if linear { "-linear" } else { "" }
         ),
+        "version": concat!("example-adapter-rk4 ", env!("CARGO_PKG_VERSION")),
         "samples": samples,
         "stats": {"steps": steps, "rhs_evals": tableau.b.len() as u64 * steps, "integration_seconds": seconds},
     });

@@ -23,11 +23,13 @@ pub mod analysis;
 pub mod bench;
 mod case;
 pub mod check;
+mod check_stream;
 mod compare;
 pub mod convergence;
 pub mod dense;
 pub mod digits;
 pub mod drift_growth;
+pub mod ensemble;
 pub mod environment;
 pub mod events;
 pub mod geometry;
@@ -37,6 +39,7 @@ pub mod integrator;
 mod metrics;
 pub mod proportionality;
 pub mod reference;
+pub mod rounded_explicit;
 pub mod rounded_reference;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
@@ -46,6 +49,7 @@ pub use bench::{
 };
 pub use case::Case;
 pub use check::{check, Check, CheckReport, CheckRequest, CheckedCase, GivenMotion};
+pub use check_stream::CheckStream;
 pub use compare::{
     check_finite_report, compare, compare_integrator, preflight, reference_bits,
     reference_bits_for, run_info, CompareOptions, DEFAULT_PIECES, REFERENCE_GUARD_BITS,

@@ -5,19 +5,23 @@
 //! scripts/adapters/heyoka_adapter.py) are measured the same way and drawn dashed beside ours.
 //! The flow is [`rsts_harness::bench()`]; this parses, calls and formats.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context};
 use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use rsts_closed_form::Camera;
 use rsts_dynamics::integrators::dense::has_dense_check;
 use rsts_dynamics::integrators::MethodName;
-use rsts_harness::bench::bench_with_dense;
-use rsts_harness::bench::{diagrams, BenchObserver, BenchReport};
+use rsts_harness::bench::{
+    bench_ensemble, bench_with_dense, diagrams, BenchObserver, BenchReport, EnsemblePlan,
+};
 use rsts_harness::{BenchMethod, BenchRequest, Case, HarnessError};
+
+mod bands;
 
 use crate::args::{case_error, count, finite_f64, CaseArgs, MethodParser};
 use crate::external::{ExecMethod, TimeoutArgs};
@@ -49,6 +53,10 @@ Examples:
   # needs: heyoka
   rsts bench --methods taylor-f64 --exec \".venv-adapters/bin/python scripts/adapters/heyoka_adapter.py f64\" \\
       --tolerances 1e-8,1e-10,1e-12,1e-14 --svg out/wp.svg
+
+  # an ensemble: 18 motions, two from each camera (seed 2013 unless --seed), the median and
+  # 5–95 % band of the error and time per method and tolerance; --svg shades the bands
+  rsts bench --ensemble 18 --t-end 20 --repeats 1 --svg out/wp-ensemble.svg
 
   # any program speaking rsts-integrator/1 (docs/own-integrator.md); repeat --exec for more
   cargo build --release -p example-adapter-rk4
@@ -116,9 +124,27 @@ pub struct Args {
     /// each method's fitted C·tol^p) to this SVG file
     #[arg(long, value_name = "FILE")]
     pub svg_tolerance: Option<PathBuf>,
+    /// Run over an ensemble of N motions (1 to 1000) drawn from the cameras (docs/benchmarks.md):
+    /// --m, --h, --torus and the phases are replaced by each motion's; the table shows per method
+    /// and tolerance the median and 5–95 % band of the error and time, the JSON adds the motions,
+    /// the bands and each row's motion, --svg draws the bands
+    #[arg(long, value_name = "N", value_parser = count)]
+    pub ensemble: Option<usize>,
+    /// Seed of the ensemble's motions (the same seed draws the same motions)
+    #[arg(long, value_name = "S", default_value_t = rsts_harness::ensemble::DEFAULT_SEED, requires = "ensemble")]
+    pub seed: u64,
+    /// Cameras the ensemble's motions are drawn from, comma-separated (I+, I-, II+, II-, III,
+    /// IV+, IV-, V, VI; default: all nine), in turn
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = camera, requires = "ensemble")]
+    pub cameras: Vec<Camera>,
     /// Output format
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
+}
+
+/// A camera label of Table 1.
+fn camera(s: &str) -> Result<Camera, String> {
+    s.trim().parse()
 }
 
 impl Args {
@@ -168,14 +194,7 @@ impl BenchObserver for Progress {
     }
 
     fn done(&mut self) {
-        if !self.shown
-            && self.started.elapsed() > Duration::from_secs(1)
-            && std::io::stderr().is_terminal()
-        {
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
-            self.shown = true;
-        }
-        self.bar.inc(1);
+        output::tick_progress(&self.bar, self.started, &mut self.shown);
     }
 }
 
@@ -232,8 +251,22 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if let Some(k) = args.dense {
         let builtin = given.iter().copied().find(|m| !has_dense_check(*m));
         crate::commands::compare::check_dense_option(k, builtin)?;
+        if args.ensemble.is_some() {
+            bail!("--dense: not with --ensemble (the dense check is one more run per row of one motion)");
+        }
     }
-    let report = bench_with_dense(request, args.dense, &mut progress).map_err(case_error)?;
+    let report = match args.ensemble {
+        Some(n) => {
+            let plan = EnsemblePlan {
+                n,
+                seed: args.seed,
+                cameras: args.cameras.clone(),
+            };
+            bench_ensemble(request, &plan, &mut progress)
+        }
+        None => bench_with_dense(request, args.dense, &mut progress),
+    }
+    .map_err(case_error)?;
     progress.bar.finish_and_clear();
 
     if let Some(path) = &args.svg {
@@ -253,6 +286,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     match args.format {
         Format::Json => output::write_json(out, &report)?,
         Format::Csv => output::write_records_csv(out, &report.rows)?,
+        Format::Table if report.ensemble.is_some() => bands::write_table(out, &report)?,
         Format::Table => {
             let case = &report.case;
             writeln!(
@@ -262,14 +296,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             )?;
             writeln!(out, "{}", report.environment.describe())?;
             output::write_table(out, &table(&report))?;
-            for f in &report.fits {
-                writeln!(
-                    out,
-                    "fit {}: {}",
-                    report.label_of_method(&f.method),
-                    f.describe()
-                )?;
-            }
+            write_fits(out, &report, "")?;
         }
     }
     if let Some(limit) = args.max_event_error {
@@ -283,6 +310,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 .into());
             }
         }
+    }
+    Ok(())
+}
+
+/// A line `fit METHOD{qualifier}: …` per tolerance fit.
+fn write_fits(out: &mut dyn Write, report: &BenchReport, qualifier: &str) -> anyhow::Result<()> {
+    for f in &report.fits {
+        let label = report.label_of_method(&f.method);
+        writeln!(out, "fit {label}{qualifier}: {}", f.describe())?;
     }
     Ok(())
 }

@@ -1,11 +1,11 @@
 //! `rsts compare`: integrate from the closed-form state at t = 0 and compare with the closed form
 //! along the motion; report errors, drifts and cost; optionally log everything to MCAP.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use anyhow::{bail, Context};
 use clap::Args as ClapArgs;
@@ -15,6 +15,7 @@ use serde::Serialize;
 use rsts_dynamics::integrators::dense::has_dense_check;
 use rsts_dynamics::integrators::MethodName;
 use rsts_harness::dense::{dense_of_method, dense_of_samples, DenseReport, MAX_DENSE};
+use rsts_harness::environment::Environment;
 use rsts_harness::events::{events_of_run, EventMatchReport, StateCollector};
 use rsts_harness::{
     compare_integrator, preflight, Case, CompareOptions, Integrator, Observer, Report, SampleRecord,
@@ -208,14 +209,7 @@ impl Observer for CliObserver {
             .map_err(|e| format!("writing the MCAP file: {}", rsts_io::error_text(&e)))?;
         }
         // Show the bar only for runs longer than a second, and only on a terminal.
-        if !self.shown
-            && self.started.elapsed() > Duration::from_secs(1)
-            && std::io::stderr().is_terminal()
-        {
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
-            self.shown = true;
-        }
-        self.bar.inc(1);
+        output::tick_progress(&self.bar, self.started, &mut self.shown);
         Ok(())
     }
 
@@ -250,6 +244,9 @@ struct Document<'a> {
     events: Option<EventMatchReport>,
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     dense: Option<DenseReport>,
+    /// Where it ran (the report carries a time): CPU, SIMD path, cores, OS, rsts version and
+    /// commit, an --exec integrator's library version.
+    environment: Environment,
 }
 
 /// Bytes an MCAP log takes per sample (measured: 2000 samples of the default case, 2.44 MB).
@@ -397,11 +394,16 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let log_stats = observer.finish()?;
     check_finite_report(&report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
+    let mut environment = Environment::detect();
+    if let Some(exec) = &external {
+        environment.record(exec);
+    }
     let doc = Document {
         report: &report,
         mcap: mcap.clone(),
         events: events.clone(),
         dense,
+        environment,
     };
     match args.format {
         Format::Json => output::write_json(out, &doc)?,
@@ -420,6 +422,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             if let Some(d) = &dense {
                 writeln!(out, "dense output: {}", d.summary())?;
             }
+            writeln!(out, "{:<26}{}", "environment:", doc.environment.describe())?;
         }
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {

@@ -24,7 +24,7 @@ impl Cost {
         }
     }
 
-    fn label(&self, repeats: usize) -> String {
+    pub(super) fn label(&self, repeats: usize) -> String {
         match self {
             Cost::Seconds => format!("integration seconds (median of {repeats})"),
             Cost::RhsEvals => "right-hand-side evaluations".into(),
@@ -49,7 +49,7 @@ fn counterpart(label: &str) -> Option<&'static str> {
 
 /// Our series take the palette in order; a peer's series takes the colour of our method of the
 /// same precision ([`counterpart`]) unless another peer series has it, else the next free one.
-fn assign_colours(series: &mut [Series]) {
+pub(super) fn assign_colours(series: &mut [Series]) {
     let palette = rsts_plots::PALETTE;
     let mut used: Vec<usize> = Vec::new();
     let mut colour_of: Vec<Option<usize>> = vec![None; series.len()];
@@ -85,8 +85,13 @@ fn assign_colours(series: &mut [Series]) {
     }
 }
 
-/// The work–precision diagram: one line per method, max error against `cost` (log–log).
+/// The work–precision diagram: one line per method, max error against `cost` (log–log); for
+/// an ensemble, the median and the 5–95 % band over the motions
+/// ([`super::band_diagram::ensemble_work_precision`]).
 pub fn work_precision(report: &BenchReport, cost: Cost) -> Chart {
+    if report.ensemble.is_some() {
+        return super::band_diagram::ensemble_work_precision(report, cost);
+    }
     let (case, repeats) = (&report.case, report.repeats);
     let mut series: Vec<Series> = Vec::new();
     // (tolerance, error, cost) per series, drawn from loose to tight tolerance; a row without

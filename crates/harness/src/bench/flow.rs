@@ -10,12 +10,14 @@
 use std::collections::btree_map::{BTreeMap, Entry};
 
 use rsts_closed_form::events::EventSpec;
+use rsts_closed_form::Camera;
 use rsts_dynamics::integrators::dense::has_dense_check;
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances, MAX_MP_DIGITS};
 use serde::Serialize;
 
 use super::{measure_against, measure_integrator, run_once, BenchRow, Reference};
 use crate::compare::{preflight, reference_bits, reference_bits_for};
+use crate::ensemble::{bands, draw_ensemble, Band, Ensemble};
 use crate::environment::Environment;
 use crate::events::events_of_run;
 use crate::integrator::Integrator;
@@ -100,9 +102,18 @@ pub struct BenchReport {
     pub repeats: usize,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub taylor_mp_digits: Option<u32>,
+    /// The motions of an ensemble (`rsts bench --ensemble N`); the case then gives a, b, T and
+    /// the samples, each motion its point, torus and phases.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ensemble: Option<Ensemble>,
+    /// Every run; in an ensemble, each row names its motion.
     pub rows: Vec<BenchRow>,
     /// Tolerance proportionality per method (two tolerances or more).
     pub fits: Vec<ToleranceFit>,
+    /// Per method and tolerance of an ensemble, the median and 5–95 % band of the error and
+    /// the time over the motions.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub bands: Vec<Band>,
     pub environment: Environment,
     /// One per row.
     #[serde(skip)]
@@ -153,6 +164,15 @@ fn setting(names: &[&str], message: String) -> HarnessError {
     HarnessError::Setting(names.iter().map(|n| n.to_string()).collect(), message)
 }
 
+/// An ensemble asked of a benchmark: `n` motions drawn with `seed` from `cameras` (all nine
+/// when empty), see [`crate::ensemble`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnsemblePlan {
+    pub n: usize,
+    pub seed: u64,
+    pub cameras: Vec<Camera>,
+}
+
 /// A planned run.
 enum Job {
     BuiltIn(MethodConfig),
@@ -165,13 +185,34 @@ pub fn bench(
     request: BenchRequest<'_>,
     observer: &mut dyn BenchObserver,
 ) -> Result<BenchReport, HarnessError> {
-    bench_with_dense(request, None, observer)
+    run(request, None, None, observer)
 }
 
 /// [`bench`] with the dense-output check of every row (`bench --dense K`, [`crate::dense`]):
 /// one more, untimed run per row that reports its steps and K samples inside each.
 pub fn bench_with_dense(
     request: BenchRequest<'_>,
+    dense: Option<usize>,
+    observer: &mut dyn BenchObserver,
+) -> Result<BenchReport, HarnessError> {
+    run(request, None, dense, observer)
+}
+
+/// Run a benchmark over an ensemble of motions ([`EnsemblePlan`]): the request's case gives a,
+/// b, T and the samples; every method runs at every tolerance on every motion as in [`bench`]
+/// (each run the trajectory of `rsts compare … --pieces 1`), and the report adds the motions
+/// and the bands. Events are not located in an ensemble.
+pub fn bench_ensemble(
+    request: BenchRequest<'_>,
+    plan: &EnsemblePlan,
+    observer: &mut dyn BenchObserver,
+) -> Result<BenchReport, HarnessError> {
+    run(request, Some(plan), None, observer)
+}
+
+fn run(
+    request: BenchRequest<'_>,
+    plan: Option<&EnsemblePlan>,
     dense: Option<usize>,
     observer: &mut dyn BenchObserver,
 ) -> Result<BenchReport, HarnessError> {
@@ -237,6 +278,35 @@ pub fn bench_with_dense(
             "give at least one method (or an --exec integrator)".into(),
         ));
     }
+    let ensemble = match plan {
+        Some(plan) => {
+            if !specs.is_empty() {
+                return Err(setting(
+                    &["event", "ensemble"],
+                    "events are not located in an ensemble; leave out one of them".into(),
+                ));
+            }
+            let e = draw_ensemble(case.a, case.b, &plan.cameras, plan.n, plan.seed)
+                .map_err(|e| setting(e.parameters(), e.to_string()))?;
+            Some(e)
+        }
+        None => None,
+    };
+    // The motions run: the case itself, or each motion of the ensemble.
+    let cases: Vec<Case> = match &ensemble {
+        Some(e) => (0..e.n).map(|k| e.case(&case, k)).collect(),
+        None => vec![case.clone()],
+    };
+    let motion_of = |k: usize, e: HarnessError| match &ensemble {
+        Some(en) => {
+            let mo = &en.motions[k];
+            HarnessError::Integrator(format!(
+                "ensemble motion {k} (camera {}, --m {} --h {} --torus {} --phase1 {} --phase2 {}): {e}",
+                mo.camera, mo.m, mo.h, mo.torus, mo.phase1, mo.phase2
+            ))
+        }
+        None => e,
+    };
     let smallest = tolerances.iter().copied().fold(f64::INFINITY, f64::min);
     if let Some(d) = digits {
         if !(10..=MAX_MP_DIGITS).contains(&d) {
@@ -309,32 +379,26 @@ pub fn bench_with_dense(
     }
     // Every job is checked (the point, the step budget) before any runs, the whole bench too.
     let mut total_steps = 0.0;
-    for job in &jobs {
-        if let Job::BuiltIn(config) = job {
-            preflight(&case, config)?;
-            total_steps += estimate_steps(&case, config)? * repeats as f64;
+    for (k, case) in cases.iter().enumerate() {
+        for job in &jobs {
+            if let Job::BuiltIn(config) = job {
+                preflight(case, config).map_err(|e| motion_of(k, e))?;
+                total_steps +=
+                    estimate_steps(case, config).map_err(|e| motion_of(k, e))? * repeats as f64;
+            }
         }
     }
     if total_steps > MAX_TOTAL_STEPS {
         return Err(setting(&["repeats", "tolerances", "t-end"], format!(
             "the benchmark needs at least about {} steps in all ({} runs of {} repeats), more than the limit of {}; ask for fewer",
             rsts_dynamics::short(total_steps),
-            built_in_jobs,
+            built_in_jobs * cases.len(),
             repeats,
             rsts_dynamics::short(MAX_TOTAL_STEPS)
         )));
     }
 
-    observer.start(jobs.len());
-    let mut references: BTreeMap<u32, Reference> = BTreeMap::new();
-    let mut reference_at = |bits: u32| -> Result<Reference, HarnessError> {
-        Ok(match references.entry(bits) {
-            Entry::Occupied(e) => e.get().clone(),
-            Entry::Vacant(e) => e
-                .insert(Reference::new(&case, bits).map_err(plain)?)
-                .clone(),
-        })
-    };
+    observer.start(jobs.len() * cases.len());
     let asked: Vec<(String, String)> = specs
         .iter()
         .map(|s| {
@@ -346,81 +410,108 @@ pub fn bench_with_dense(
         .collect();
     let mut rows: Vec<BenchRow> = Vec::new();
     let mut labels: Vec<RowLabel> = Vec::new();
-    for job in jobs {
-        match job {
-            Job::BuiltIn(config) => {
-                let label = label_of(config.method, mp_digits);
-                let tol = config.tolerances.rtol;
-                observer.running(&format!("{label} at {tol:e}"))?;
-                let reference = reference_at(reference_bits(&config))?;
-                let mut row = measure_against(&reference, &config, repeats).map_err(|e| {
-                    HarnessError::Integrator(format!("{label} at tolerance {tol:e}: {e}"))
-                })?;
-                if !specs.is_empty() {
-                    let mut once = config;
-                    let (times, states) = run_once(&reference, &mut once).map_err(plain)?;
-                    let ev = events_of_run(&case, &specs, None, &times, &states)?;
-                    row.events = Some(ev.counts());
-                }
-                if let Some(k) = dense {
-                    row.dense = Some(crate::dense::dense_of_method(&case, &config, k)?);
-                }
-                rows.push(row);
-                labels.push(RowLabel {
-                    label,
-                    external: false,
-                });
-            }
-            Job::Outside(mut integrator, what) => {
-                integrator.ask_events(&asked);
-                let tol = integrator.tolerances().map_or(f64::NAN, |t| t.rtol);
-                observer.running(&format!("{} at {tol:e}", integrator.name()))?;
-                let reference = reference_at(reference_bits_for(integrator.working_bits()))?;
-                let mut row = measure_integrator(&reference, integrator.as_mut(), repeats)
-                    .map_err(|e| {
-                        HarnessError::Integrator(format!("{what} at tolerance {tol:e}: {e}"))
+    let mut environment = Environment::detect();
+    for (k, case) in cases.iter().enumerate() {
+        // One reference per precision and motion.
+        let mut references: BTreeMap<u32, Reference> = BTreeMap::new();
+        let mut reference_at = |bits: u32| -> Result<Reference, HarnessError> {
+            Ok(match references.entry(bits) {
+                Entry::Occupied(e) => e.get().clone(),
+                Entry::Vacant(e) => e
+                    .insert(Reference::new(case, bits).map_err(|e| motion_of(k, plain(e)))?)
+                    .clone(),
+            })
+        };
+        let motion = ensemble.as_ref().map(|_| k);
+        let what_motion = motion.map_or(String::new(), |k| format!(" (motion {k})"));
+        for job in jobs.iter_mut() {
+            match job {
+                Job::BuiltIn(config) => {
+                    let label = label_of(config.method, mp_digits);
+                    let tol = config.tolerances.rtol;
+                    observer.running(&format!("{label} at {tol:e}{what_motion}"))?;
+                    let reference = reference_at(reference_bits(config))?;
+                    let mut row = measure_against(&reference, config, repeats).map_err(|e| {
+                        motion_of(
+                            k,
+                            HarnessError::Integrator(format!("{label} at tolerance {tol:e}: {e}")),
+                        )
                     })?;
-                if !specs.is_empty() {
-                    let answered = integrator.answered_events();
-                    let (mut times, states) = match answered {
-                        Some(_) => (Vec::new(), Vec::new()),
-                        None => run_once(&reference, integrator.as_mut()).map_err(plain)?,
-                    };
-                    if times.is_empty() {
-                        times.push(case.t_end);
+                    if !specs.is_empty() {
+                        let mut once = *config;
+                        let (times, states) = run_once(&reference, &mut once).map_err(plain)?;
+                        let ev = events_of_run(case, &specs, None, &times, &states)?;
+                        row.events = Some(ev.counts());
                     }
-                    let ev = events_of_run(&case, &specs, answered.as_deref(), &times, &states)?;
-                    row.events = Some(ev.counts());
+                    if let Some(k) = dense {
+                        row.dense = Some(crate::dense::dense_of_method(case, config, k)?);
+                    }
+                    row.motion = motion;
+                    rows.push(row);
+                    labels.push(RowLabel {
+                        label,
+                        external: false,
+                    });
                 }
-                if let Some(k) = dense {
-                    integrator.ask_dense(Some(k));
-                    let once = run_once(&reference, integrator.as_mut());
-                    integrator.ask_dense(None);
-                    once.map_err(plain)?;
-                    let samples = integrator.answered_dense().ok_or_else(|| {
-                        HarnessError::Integrator(format!(
-                            "{what}: --dense needs an integrator that reports its step times and its samples inside them; {} does not",
-                            integrator.name()
-                        ))
-                    })?;
-                    row.dense = Some(crate::dense::dense_of_samples(&case, k, &samples)?);
+                Job::Outside(integrator, what) => {
+                    integrator.ask_events(&asked);
+                    let tol = integrator.tolerances().map_or(f64::NAN, |t| t.rtol);
+                    observer.running(&format!("{} at {tol:e}{what_motion}", integrator.name()))?;
+                    let reference = reference_at(reference_bits_for(integrator.working_bits()))?;
+                    let mut row = measure_integrator(&reference, integrator.as_mut(), repeats)
+                        .map_err(|e| {
+                            motion_of(
+                                k,
+                                HarnessError::Integrator(format!(
+                                    "{what} at tolerance {tol:e}: {e}"
+                                )),
+                            )
+                        })?;
+                    if !specs.is_empty() {
+                        let answered = integrator.answered_events();
+                        let (mut times, states) = match answered {
+                            Some(_) => (Vec::new(), Vec::new()),
+                            None => run_once(&reference, integrator.as_mut()).map_err(plain)?,
+                        };
+                        if times.is_empty() {
+                            times.push(case.t_end);
+                        }
+                        let ev = events_of_run(case, &specs, answered.as_deref(), &times, &states)?;
+                        row.events = Some(ev.counts());
+                    }
+                    if let Some(k) = dense {
+                        integrator.ask_dense(Some(k));
+                        let once = run_once(&reference, integrator.as_mut());
+                        integrator.ask_dense(None);
+                        once.map_err(plain)?;
+                        let samples = integrator.answered_dense().ok_or_else(|| {
+                            HarnessError::Integrator(format!(
+                                "{what}: --dense needs an integrator that reports its step times and its samples inside them; {} does not",
+                                integrator.name()
+                            ))
+                        })?;
+                        row.dense = Some(crate::dense::dense_of_samples(case, k, &samples)?);
+                    }
+                    row.motion = motion;
+                    environment.record(integrator.as_ref());
+                    labels.push(RowLabel {
+                        label: row.method.clone(),
+                        external: true,
+                    });
+                    rows.push(row);
                 }
-                labels.push(RowLabel {
-                    label: row.method.clone(),
-                    external: true,
-                });
-                rows.push(row);
             }
+            observer.done();
         }
-        observer.done();
     }
 
     for (r, l) in rows.iter().zip(&labels) {
         if !(r.max_error.is_finite() && r.integration_seconds.is_finite()) {
             return Err(HarnessError::Integrator(format!(
-                "{} at tolerance {}: the maximum error is not finite (the integrated motion left f64's range)",
+                "{} at tolerance {}{}: the maximum error is not finite (the integrated motion left f64's range)",
                 l.label,
-                rsts_dynamics::short(r.tolerance)
+                rsts_dynamics::short(r.tolerance),
+                r.motion.map_or(String::new(), |k| format!(" (motion {k})"))
             )));
         }
     }
@@ -431,9 +522,15 @@ pub fn bench_with_dense(
         taylor_mp_digits: builtins
             .contains(&MethodName::TaylorMp)
             .then_some(mp_digits),
+        bands: if ensemble.is_some() {
+            bands(&rows)
+        } else {
+            Vec::new()
+        },
+        ensemble,
         rows,
         fits,
-        environment: Environment::detect(),
+        environment,
         labels,
     })
 }
