@@ -87,7 +87,8 @@ cargo build --release -q -p rsts-mcap --example empty_first_chunk || die "the bu
 rsts=target/release/rsts
 files="$out/files"
 rm -rf "$files" && mkdir -p "$files"
-$rsts compare --t-end 20 --samples 401 --format json --mcap "$files/compare.mcap" >"$files/compare.json"
+# with events: the Log panel lists them and the errors plot draws their time errors
+$rsts compare --t-end 20 --samples 401 --event omega1 --event gamma2 --format json --mcap "$files/compare.mcap" >"$files/compare.json"
 # rsts check logs like compare (here: the compare log's integrated channel against the closed form)
 $rsts check "$files/compare.mcap" --format json --mcap "$files/check.mcap" >"$files/check.json"
 $rsts surfaces --m 0.3 --h -0.375 --torus 0 --periods 1 --samples 1000 --scene-grid 32 --no-ply \

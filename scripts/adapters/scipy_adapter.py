@@ -78,6 +78,8 @@ def main():
     if step is not None and method not in FIXED_STEP:
         sys.exit(f"scipy_adapter.py: {method} cannot take a fixed step (asked: step = {step}); "
                  f"use {' or '.join(FIXED_STEP)}")
+    dense = req.get("dense")  # K samples of the interpolant inside each step (rsts --dense K)
+    dense_samples, step_times = [], [float(times[0])]
     start = time.perf_counter()
     steps = None
     if len(times) == 1:  # no time passes
@@ -86,13 +88,23 @@ def main():
         ts, ys, nfev, steps = fixed_steps(rhs, times, y0, method, float(step))
     else:
         sol = solve_ivp(rhs, (times[0], times[-1]), y0, method=method, t_eval=times,
-                        rtol=req["rtol"], atol=req["atol"], events=funcs or None)
+                        rtol=req["rtol"], atol=req["atol"], events=funcs or None,
+                        dense_output=bool(dense))
         # Events located by solve_ivp's own root finder (brentq on its dense output).
         if funcs:
             found = sorted((float(t), n) for n, ts_n in zip(names, sol.t_events) for t in ts_n if t > times[0])
         if not sol.success:
             sys.exit(f"scipy_adapter.py: solve_ivp failed: {sol.message}")
         ts, ys, nfev = sol.t, sol.y, sol.nfev
+        if dense:  # the steps solve_ivp took (sol.sol.ts) and its interpolant inside them
+            step_times = [float(t) for t in sol.sol.ts]
+            steps = len(step_times) - 1
+            for t0, t1 in zip(step_times, step_times[1:]):
+                for j in range(1, dense + 2):
+                    t = t1 if j == dense + 1 else t0 + (t1 - t0) * j / (dense + 1)
+                    y = sol.sol(t)
+                    dense_samples.append({"t": t, "omega": list(y[0:3]), "alpha": list(y[3:6]),
+                                          "beta": list(y[6:9])})
     seconds = time.perf_counter() - start
     samples = [{"t": float(t), "omega": list(y[0:3]), "alpha": list(y[3:6]), "beta": list(y[6:9])}
                for t, y in zip(ts, ys.T)]
@@ -101,6 +113,9 @@ def main():
     if steps is not None:
         stats["steps"] = int(steps)
     answer = {"name": f"scipy-{method}", "version": f"scipy {scipy.__version__}", "samples": samples, "stats": stats}
+    if dense:
+        stats["step_times"] = step_times
+        answer["dense"] = dense_samples
     # At a fixed step solve_ivp's events are not used: no "events" (rsts then locates them in
     # the samples).
     if "events" in req and step is None:

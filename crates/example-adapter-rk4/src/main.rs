@@ -21,6 +21,13 @@
 //! derivatives (from the equations) at both ends, and a sign change at the step's ends is refined
 //! by bisection on that cubic. `--drop-event K` leaves out the K-th event found (0-based): a
 //! faulty event finder, for testing the checks.
+//!
+//! Dense output (`"dense": K` in the request, `rsts compare --dense K`): the answer also carries
+//! `"stats": {"step_times": [...]}` and `"dense"`: in each step, the K samples of the
+//! interpolant at t₀ + j·h/(K + 1) and the step's end. The interpolant is the cubic Hermite
+//! polynomial (order 3, error O(h⁴) like the step's); `--interpolant linear` uses the chord
+//! instead (error O(h²)): a dense output of lower order than the method, for testing the check;
+//! `--ignore-dense` answers without them (an adapter that does not know `dense`).
 
 use std::io::{Read, Write};
 use std::time::Instant;
@@ -229,6 +236,28 @@ fn run() -> Result<Value, String> {
             eprintln!("example-adapter-rk4: event {name} is not a function of the state; skipped");
         }
     }
+    let dense = match req
+        .get("dense")
+        .filter(|_| !args.iter().any(|a| a == "--ignore-dense"))
+    {
+        Some(k) => Some(
+            k.as_u64()
+                .filter(|k| *k >= 1)
+                .ok_or("\"dense\" must be a whole number >= 1")? as usize,
+        ),
+        None => None,
+    };
+    let linear = match option(&args, "--interpolant")?.as_deref() {
+        None | Some("hermite") => false,
+        Some("linear") => true,
+        Some(other) => {
+            return Err(format!(
+                "unknown --interpolant {other} (known: hermite, linear)"
+            ))
+        }
+    };
+    let mut step_times = vec![times[0]];
+    let mut dense_samples: Vec<Value> = Vec::new();
     let mut found: Vec<(String, f64)> = Vec::new();
     let sample =
         |t: f64, y: &State| json!({"t": t, "omega": &y[0..3], "alpha": &y[3..6], "beta": &y[6..9]});
@@ -249,6 +278,28 @@ fn run() -> Result<Value, String> {
                     }
                 }
             }
+            if let Some(k) = dense {
+                let t1 = if j + 1 == n as u64 { w[1] } else { t0 + h };
+                let (f0, f1) = (rhs(a, b, &y), rhs(a, b, &next));
+                for i in 1..=k {
+                    let t = t0 + (t1 - t0) * i as f64 / (k + 1) as f64;
+                    let s = i as f64 / (k + 1) as f64;
+                    let yi: State = std::array::from_fn(|c| {
+                        if linear {
+                            (1.0 - s) * y[c] + s * next[c]
+                        } else {
+                            let (s2, s3) = (s * s, s * s * s);
+                            (2.0 * s3 - 3.0 * s2 + 1.0) * y[c]
+                                + (s3 - 2.0 * s2 + s) * h * f0[c]
+                                + (3.0 * s2 - 2.0 * s3) * next[c]
+                                + (s3 - s2) * h * f1[c]
+                        }
+                    });
+                    dense_samples.push(sample(t, &yi));
+                }
+                dense_samples.push(sample(t1, &next));
+                step_times.push(t1);
+            }
             y = next;
             steps += 1;
         }
@@ -256,11 +307,19 @@ fn run() -> Result<Value, String> {
     }
     let seconds = started.elapsed().as_secs_f64();
     let mut answer = json!({
-        "name": if tableau.name == "rk4" { "example-rk4".to_string() } else { format!("example-{}", tableau.name) },
+        "name": format!(
+            "example-{}{}",
+            tableau.name,
+            if linear { "-linear" } else { "" }
+        ),
         "version": concat!("example-adapter-rk4 ", env!("CARGO_PKG_VERSION")),
         "samples": samples,
         "stats": {"steps": steps, "rhs_evals": tableau.b.len() as u64 * steps, "integration_seconds": seconds},
     });
+    if dense.is_some() {
+        answer["stats"]["step_times"] = json!(step_times);
+        answer["dense"] = Value::Array(dense_samples);
+    }
     if req.get("events").is_some() {
         found.sort_by(|p, q| p.1.total_cmp(&q.1));
         if let Some(k) = drop {

@@ -12,4 +12,12 @@ impl BenchIntegrator for Exec {
     fn answered_events(&self) -> Option<Vec<(String, f64)>> {
         self.answered_events.clone()
     }
+
+    fn ask_dense(&mut self, k: Option<usize>) {
+        self.dense = k;
+    }
+
+    fn answered_dense(&mut self) -> Option<rsts_dynamics::integrators::dense::StepSamples> {
+        self.answered_dense.take()
+    }
 }

@@ -155,6 +155,10 @@ pub struct Exec {
     pub answered_events: Option<Vec<(String, f64)>>,
     /// A fixed step asked of the integrator (`"step"` in the request; convergence studies).
     pub step: Option<f64>,
+    /// K samples inside each step asked (`"dense": K` in the request; [`crate::dense`]).
+    pub dense: Option<usize>,
+    /// The steps and dense samples of the last answer to a request with `dense`.
+    pub answered_dense: Option<rsts_dynamics::integrators::dense::StepSamples>,
 }
 
 impl Exec {
@@ -180,6 +184,8 @@ impl Exec {
             events: Vec::new(),
             answered_events: None,
             step: None,
+            dense: None,
+            answered_dense: None,
         })
     }
 
@@ -255,6 +261,9 @@ impl Exec {
         }
         if let Some(h) = self.step {
             request["step"] = json!(h);
+        }
+        if let Some(k) = self.dense {
+            request["dense"] = json!(k);
         }
         request
     }
@@ -369,6 +378,7 @@ impl Exec {
         let mut digits = None;
         let mut version = None;
         let mut answered_events = None;
+        let mut answered_dense = None;
         let (raw, stats) = if text.trim_start().starts_with('{') {
             let doc: Value =
                 serde_json::from_str(text).map_err(|e| garbage(format!("invalid JSON: {e}")))?;
@@ -388,6 +398,10 @@ impl Exec {
                         garbage("\"digits\" must be a whole number from 1 to 10000".into())
                     })?;
                 digits = Some(d as u32);
+            }
+            if let Some(k) = self.dense {
+                answered_dense =
+                    Some(crate::dense::parse_dense(&doc, k).map_err(|e| self.fail(e, stderr))?);
             }
             if let Some(v) = doc.get("version").filter(|v| !v.is_null()) {
                 version = Some(check_version(v).map_err(garbage)?);
@@ -410,6 +424,13 @@ impl Exec {
             self.answered_version = version;
         }
         self.answered_events = answered_events;
+        self.answered_dense = answered_dense;
+        if let (Some(k), None) = (self.dense, &self.answered_dense) {
+            return Err(self.fail(
+                format_args!("--dense {k} needs a JSON answer with \"stats.step_times\" and \"dense\" (docs/own-integrator.md); it answered CSV"),
+                stderr,
+            ));
+        }
         if raw.len() != times.len() {
             return Err(self.fail(
                 format_args!(
@@ -602,10 +623,11 @@ impl Integrator for Exec {
     ) -> Result<Trajectory, HarnessError> {
         check_times(times)?;
         let bits = problem.initial.omega[0].prec();
+        let dense_bytes = self.dense.map_or(0, |_| crate::dense::max_dense_bytes());
         let request = serde_json::to_vec(&self.request(problem, times))
             .map_err(|e| HarnessError::Integrator(format!("cannot write the request: {e}")))?;
         let (stdout, stderr, wall) =
-            self.run_raw(&request, max_answer(times.len(), self.digits))?;
+            self.run_raw(&request, max_answer(times.len(), self.digits) + dense_bytes)?;
         let (states, mut stats) = self.parse_answer(&stdout, &stderr, times, bits)?;
         if stats.integration_seconds.is_nan() {
             stats.integration_seconds = wall;

@@ -14,6 +14,7 @@
 //! [`rsts_dynamics::integrators::Propagator`] and wrap it in [`rsts_harness::Propagated`].
 
 mod bench;
+pub mod dense;
 pub mod exec;
 pub mod files;
 mod pipes;

@@ -26,6 +26,7 @@ pub mod check;
 mod check_stream;
 mod compare;
 pub mod convergence;
+pub mod dense;
 pub mod digits;
 pub mod drift_growth;
 pub mod ensemble;

@@ -108,6 +108,7 @@ mod tests {
             rhs_evals: 1,
             wall_seconds: None,
             events: None,
+            dense: None,
         }
     }
 

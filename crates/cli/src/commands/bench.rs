@@ -14,9 +14,12 @@ use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use rsts_closed_form::Camera;
+use rsts_dynamics::integrators::dense::has_dense_check;
 use rsts_dynamics::integrators::MethodName;
-use rsts_harness::bench::{bench_ensemble, diagrams, BenchObserver, BenchReport, EnsemblePlan};
-use rsts_harness::{bench, BenchMethod, BenchRequest, Case, HarnessError};
+use rsts_harness::bench::{
+    bench_ensemble, bench_with_dense, diagrams, BenchObserver, BenchReport, EnsemblePlan,
+};
+use rsts_harness::{BenchMethod, BenchRequest, Case, HarnessError};
 
 mod bands;
 
@@ -104,6 +107,11 @@ pub struct Args {
     /// With --event: exit with status 1 when a row misses an event or a time error exceeds E
     #[arg(long, value_name = "E", value_parser = finite_f64, requires = "event")]
     pub max_event_error: Option<f64>,
+    /// Check the dense output of every row: K samples (1 to 64) inside each of the integrator's
+    /// own steps, evaluated by its interpolant (one more, untimed run; docs/compare.md): the
+    /// columns dense_max_error and step_max_error
+    #[arg(long, value_name = "K")]
+    pub dense: Option<usize>,
     /// Write the work-precision diagram (max error against seconds, log-log) to this SVG file
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
@@ -240,6 +248,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         started: Instant::now(),
         shown: false,
     };
+    if let Some(k) = args.dense {
+        let builtin = given.iter().copied().find(|m| !has_dense_check(*m));
+        crate::commands::compare::check_dense_option(k, builtin)?;
+        if args.ensemble.is_some() {
+            bail!("--dense: not with --ensemble (the dense check is one more run per row of one motion)");
+        }
+    }
     let report = match args.ensemble {
         Some(n) => {
             let plan = EnsemblePlan {
@@ -249,7 +264,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             };
             bench_ensemble(request, &plan, &mut progress)
         }
-        None => bench(request, &mut progress),
+        None => bench_with_dense(request, args.dense, &mut progress),
     }
     .map_err(case_error)?;
     progress.bar.finish_and_clear();
@@ -324,6 +339,10 @@ fn table(report: &BenchReport) -> Tabular {
     if with_events {
         header.extend(["events missed", "max event error"]);
     }
+    let with_dense = report.rows.iter().any(|r| r.dense.is_some());
+    if with_dense {
+        header.extend(["step max error", "dense max error"]);
+    }
     let mut t = Tabular::new(header);
     for (r, l) in report.rows.iter().zip(&report.labels) {
         let mut row = vec![
@@ -348,6 +367,10 @@ fn table(report: &BenchReport) -> Tabular {
                 ev.and_then(|e| e.max_time_error)
                     .map_or("-".into(), |x| format!("{x:.2e}")),
             ));
+        }
+        if let Some(d) = r.dense.as_ref().filter(|_| with_dense) {
+            row.push(Cell::Text(format!("{:.2e}", d.step_max_error)));
+            row.push(Cell::Text(format!("{:.2e}", d.dense_max_error)));
         }
         t.push(row);
     }

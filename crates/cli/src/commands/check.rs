@@ -100,6 +100,9 @@ pub struct Args {
     pub format: Format,
     #[command(flatten)]
     pub jobs: crate::jobs::JobsArgs,
+    /// Not for files (refused with why): see `rsts compare --dense`
+    #[arg(long, value_name = "K", hide = true)]
+    pub dense: Option<String>,
 }
 
 /// The JSON of `rsts check`: the library's report and where the log went.
@@ -157,6 +160,9 @@ struct Document<'a> {
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
+    if args.dense.is_some() {
+        bail!("--dense: a trajectory file does not say where its integrator's steps are or how it interpolates; check dense output with `rsts compare --dense K` (a built-in method, or --exec with an adapter that reports its step times)");
+    }
     if let Some(e) = args.max_error {
         if e < 0.0 {
             bail!("--max-error: must be non-negative, got {e}");

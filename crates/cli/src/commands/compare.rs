@@ -12,6 +12,9 @@ use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
+use rsts_dynamics::integrators::dense::has_dense_check;
+use rsts_dynamics::integrators::MethodName;
+use rsts_harness::dense::{dense_of_method, dense_of_samples, DenseReport, MAX_DENSE};
 use rsts_harness::environment::Environment;
 use rsts_harness::events::{events_of_run, EventMatchReport, StateCollector};
 use rsts_harness::{
@@ -81,6 +84,12 @@ pub struct Args {
     /// With --event: exit with status 1 when an event is missed or a time error exceeds E
     #[arg(long, value_name = "E", value_parser = finite_f64, requires = "event")]
     pub max_event_error: Option<f64>,
+    /// Check the dense output: K samples (1 to 64) inside each of the integrator's own steps,
+    /// evaluated by its interpolant, reported apart from the step ends (dense_max_error,
+    /// step_max_error; docs/compare.md). A built-in method makes one more run in one piece; an
+    /// --exec integrator is asked for "dense": K (docs/own-integrator.md)
+    #[arg(long, value_name = "K")]
+    pub dense: Option<usize>,
     /// Write the comparison to this MCAP file (Foxglove schemas)
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
@@ -233,6 +242,8 @@ struct Document<'a> {
     mcap: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     events: Option<EventMatchReport>,
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    dense: Option<DenseReport>,
     /// Where it ran (the report carries a time): CPU, SIMD path, cores, OS, rsts version and
     /// commit, an --exec integrator's library version.
     environment: Environment,
@@ -256,6 +267,9 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         }
     }
     let mut config = args.method.config()?;
+    if let Some(k) = args.dense {
+        check_dense_option(k, args.exec.is_none().then_some(config.method))?;
+    }
     let mut external = None;
     if let Some(command) = &args.exec {
         external = Some(exec_integrator(
@@ -295,6 +309,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         }
     }
     if let Some(exec) = &mut external {
+        exec.dense = args.dense;
         exec.events = specs
             .iter()
             .map(|s| {
@@ -366,6 +381,16 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         log.log_events(&marks)
             .map_err(|e| anyhow::anyhow!("--mcap: {}", rsts_io::error_text(&e)))?;
     }
+    let dense = match (args.dense, &mut external) {
+        (None, _) => None,
+        (Some(k), Some(exec)) => {
+            let samples = exec.answered_dense.take().ok_or_else(|| {
+                anyhow::anyhow!("--dense: the external integrator gave no dense samples")
+            })?;
+            Some(dense_of_samples(&case, k, &samples).map_err(case_error)?)
+        }
+        (Some(k), None) => Some(dense_of_method(&case, &config, k).map_err(case_error)?),
+    };
     let log_stats = observer.finish()?;
     check_finite_report(&report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
@@ -377,6 +402,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         report: &report,
         mcap: mcap.clone(),
         events: events.clone(),
+        dense,
         environment,
     };
     match args.format {
@@ -392,6 +418,9 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             )?;
             if let Some(ev) = &events {
                 writeln!(out, "events: {}", ev.summary())?;
+            }
+            if let Some(d) = &dense {
+                writeln!(out, "dense output: {}", d.summary())?;
             }
             writeln!(out, "{:<26}{}", "environment:", doc.environment.describe())?;
         }
@@ -419,6 +448,18 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     {
         out.flush()?;
         return Err(crate::commands::validate::Failed(format!("{}: {why}", report.method)).into());
+    }
+    Ok(())
+}
+
+/// Check `--dense K` before any work: K from 1 to [`MAX_DENSE`], and a built-in `method` that
+/// has the dense check (`None`: an external integrator).
+pub(crate) fn check_dense_option(k: usize, method: Option<MethodName>) -> anyhow::Result<()> {
+    if !(1..=MAX_DENSE).contains(&k) {
+        bail!("--dense: K must be between 1 and {MAX_DENSE} samples inside each step, got {k}");
+    }
+    if let Some(m) = method.filter(|m| !has_dense_check(*m)) {
+        bail!("--dense: the dense check of {m} is not available (rk4, dopri5, dop853 and --exec integrators have it)");
     }
     Ok(())
 }

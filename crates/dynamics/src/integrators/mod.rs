@@ -5,6 +5,7 @@
 //! [`Propagator::propagate_grid`] returns a [`Solution`]: the states at the grid times and the
 //! [`Stats`] of the run. One file per method; the runtime choice is [`MethodConfig`].
 
+pub mod dense;
 mod dop853;
 mod dopri5;
 mod fixed_step;
@@ -448,6 +449,31 @@ impl MethodConfig {
                 let sol = Taylor::new(self.tolerances).propagate_grid(&p, grid)?;
                 Ok(map_solution(sol, Real::to_f64))
             }
+        }
+    }
+}
+
+impl MethodConfig {
+    /// The run of [`propagate_f64`](Self::propagate_f64) on `grid` as its own steps, with `k`
+    /// samples of the method's dense output inside each ([`dense`]: how each method
+    /// interpolates).
+    pub fn propagate_steps(
+        &self,
+        problem: &Problem<f64>,
+        grid: &OutputGrid,
+        k: usize,
+    ) -> Result<dense::StepSamples, DynamicsError> {
+        self.check_budget(problem, grid)?;
+        match self.method {
+            MethodName::Rk4 => {
+                Rk4::from_tolerances(self.tolerances, self.step).propagate_steps(problem, grid, k)
+            }
+            MethodName::Dopri5 => Dopri5::new(self.tolerances).propagate_steps(problem, grid, k),
+            MethodName::Dop853 => Dop853::new(self.tolerances).propagate_steps(problem, grid, k),
+            m => Err(DynamicsError::Settings(format!(
+                "the dense check of {m} is not available (rk4, dopri5, dop853 and --exec \
+                 integrators have it)"
+            ))),
         }
     }
 }

@@ -156,6 +156,35 @@ pub(super) fn solver_end(grid: &OutputGrid) -> f64 {
     (grid.samples - 1) as f64 + 1e-6
 }
 
+/// The scale Δ of a dense-check run on `grid` (see [`EulerPoissonSystem`]), `None` when it
+/// takes no step (one sample, T = 0, or a spacing below [`TINY_SPACING`]).
+pub(super) fn dense_scale(grid: &OutputGrid) -> Option<f64> {
+    let scale = grid.spacing();
+    (grid.samples > 1 && grid.t_end != 0.0 && scale >= TINY_SPACING).then_some(scale)
+}
+
+/// A dense check must reach T with finite states (the solver stops at the first non-finite
+/// state, see [`EulerPoissonSystem`]).
+pub(super) fn check_reached(
+    method: &str,
+    out: &super::dense::StepSamples,
+    grid: &OutputGrid,
+) -> Result<(), DynamicsError> {
+    let end = out.times.last().copied().unwrap_or(0.0);
+    match out
+        .states
+        .iter()
+        .position(|y| y.iter().any(|x| !x.is_finite()))
+    {
+        Some(i) => Err(non_finite_at(method, out.times[i], i, out.times.len())),
+        None if end < grid.t_end * (1.0 - 1e-12) => Err(DynamicsError::Integration(format!(
+            "{method}: the run stopped at t = {} before t-end (a state that is not finite)",
+            crate::short(end)
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// Below this grid spacing the scaled field Δ·f(y) would lose digits to subnormal numbers; the
 /// motion over such a time is y₀ + t·f(y₀) to within f64 rounding (the next term is ~t²).
 pub(super) const TINY_SPACING: f64 = 1e-290;
@@ -216,6 +245,38 @@ macro_rules! dormand_prince_method {
                 Self { tolerances }
             }
 
+            /// The `ode_solvers` solver of a run on `grid` in the scaled time s = t/Δ (Δ the
+            /// grid spacing), its output `out` every `dx` (in s): the one set-up of every run
+            /// of this method, so two runs with different outputs take the same steps.
+            pub(super) fn solver(
+                &self,
+                field: $crate::equations::VectorField<f64>,
+                initial: &$crate::state::State<f64>,
+                grid: &$crate::integrators::OutputGrid,
+                dx: f64,
+                out: ode_solvers::OutputType,
+            ) -> $solver {
+                use $crate::integrators::ode_solvers_adapter as adapter;
+                <$solver>::from_param(
+                    adapter::EulerPoissonSystem::new(field, grid.spacing()),
+                    0.0,
+                    adapter::solver_end(grid),
+                    dx,
+                    adapter::to_vector(initial),
+                    self.tolerances.rtol,
+                    self.tolerances.atol,
+                    0.9,
+                    $beta,
+                    $fac_min,
+                    $fac_max,
+                    (grid.samples - 1) as f64,
+                    0.0,
+                    $crate::integrators::MAX_STEPS as u32,
+                    1000,
+                    out,
+                )
+            }
+
             /// `n` equal steps over s ∈ [0, 1] of `system` from `y0`, the step-size control
             /// off (see [`super::fixed_step`]): the state at s = 1 and the counts.
             pub(super) fn fixed_interval(
@@ -271,22 +332,11 @@ macro_rules! dormand_prince_method {
                 if scale < adapter::TINY_SPACING {
                     return Ok(adapter::tiny_grid(Self::NAME, &field, &problem.initial, grid));
                 }
-                let mut solver = <$solver>::from_param(
-                    adapter::EulerPoissonSystem::new(field, scale),
-                    0.0,
-                    adapter::solver_end(grid),
+                let mut solver = self.solver(
+                    field,
+                    &problem.initial,
+                    grid,
                     1.0,
-                    adapter::to_vector(&problem.initial),
-                    self.tolerances.rtol,
-                    self.tolerances.atol,
-                    0.9,
-                    $beta,
-                    $fac_min,
-                    $fac_max,
-                    (grid.samples - 1) as f64,
-                    0.0,
-                    $crate::integrators::MAX_STEPS as u32,
-                    1000,
                     ode_solvers::OutputType::Dense,
                 );
                 let start = std::time::Instant::now();

@@ -14,6 +14,7 @@ use crate::equations::VectorField;
 use crate::error::DynamicsError;
 use crate::state::{State, DIM};
 
+use super::dense::{hermite, interior_times, too_many, StepSamples, MAX_DENSE_SAMPLES};
 use super::ode_solvers_adapter::{initial_only, non_finite_at};
 use super::{OutputGrid, Problem, Propagator, Solution, Stats, Tolerances, MAX_STEPS};
 
@@ -119,6 +120,64 @@ impl Propagator<f64> for Rk4 {
             states,
             stats,
         })
+    }
+}
+
+impl Rk4 {
+    /// The run of [`Propagator::propagate_grid`] on `grid`, as its own steps with `k` samples of
+    /// the cubic Hermite interpolant inside each ([`super::dense`]; one more evaluation of the
+    /// field per step, at its end — the next step's first stage).
+    pub fn propagate_steps(
+        &self,
+        problem: &Problem<f64>,
+        grid: &OutputGrid,
+        k: usize,
+    ) -> Result<StepSamples, DynamicsError> {
+        let mut out = StepSamples::start(k, problem.initial.to_array())?;
+        if grid.samples <= 1 || grid.t_end == 0.0 {
+            return Ok(out);
+        }
+        let total = self.steps_for(grid) * (k + 1) as f64;
+        if total > MAX_DENSE_SAMPLES as f64 {
+            return Err(too_many(Self::NAME, total as usize));
+        }
+        let n = self.per_interval(grid) as u64;
+        let field = VectorField::new(&problem.fields);
+        let mut y = problem.initial.to_array();
+        let mut f = field.eval(&y);
+        let (mut k2, mut k3, mut k4) = ([0.0; DIM], [0.0; DIM], [0.0; DIM]);
+        for s in 1..grid.samples {
+            let (t0, t1) = (grid.time(s - 1), grid.time(s));
+            let h = (t1 - t0) / n as f64;
+            for j in 0..n {
+                field.eval_into(&axpy(&y, 0.5 * h, &f), &mut k2);
+                field.eval_into(&axpy(&y, 0.5 * h, &k2), &mut k3);
+                field.eval_into(&axpy(&y, h, &k3), &mut k4);
+                let next: [f64; DIM] = std::array::from_fn(|i| {
+                    y[i] + h / 6.0 * (f[i] + 2.0 * (k2[i] + k3[i]) + k4[i])
+                });
+                let f_next = field.eval(&next);
+                if next.iter().any(|x| !x.is_finite()) {
+                    return Err(non_finite_at(Self::NAME, t1, s, grid.samples));
+                }
+                let (a, b) = (
+                    t0 + j as f64 * h,
+                    if j + 1 == n {
+                        t1
+                    } else {
+                        t0 + (j + 1) as f64 * h
+                    },
+                );
+                for (i, t) in interior_times(a, b, k).enumerate() {
+                    let theta = (i + 1) as f64 / (k + 1) as f64;
+                    out.push(t, hermite(theta, b - a, (&y, &f), (&next, &f_next)), false);
+                }
+                out.push(b, next, true);
+                out.step_times.push(b);
+                (y, f) = (next, f_next);
+            }
+        }
+        Ok(out)
     }
 }
 

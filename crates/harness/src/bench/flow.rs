@@ -11,6 +11,7 @@ use std::collections::btree_map::{BTreeMap, Entry};
 
 use rsts_closed_form::events::EventSpec;
 use rsts_closed_form::Camera;
+use rsts_dynamics::integrators::dense::has_dense_check;
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances, MAX_MP_DIGITS};
 use serde::Serialize;
 
@@ -41,6 +42,15 @@ pub trait BenchIntegrator: Integrator {
     /// The events (name, time) the last run located itself; `None`: the harness locates them
     /// in its samples.
     fn answered_events(&self) -> Option<Vec<(String, f64)>> {
+        None
+    }
+    /// Ask for K samples inside each step in the runs to come (`None`: stop asking); default:
+    /// not able to.
+    fn ask_dense(&mut self, k: Option<usize>) {
+        let _ = k;
+    }
+    /// The steps and dense samples of the last run, when it reported them.
+    fn answered_dense(&mut self) -> Option<rsts_dynamics::integrators::dense::StepSamples> {
         None
     }
 }
@@ -178,7 +188,17 @@ pub fn bench(
     request: BenchRequest<'_>,
     observer: &mut dyn BenchObserver,
 ) -> Result<BenchReport, HarnessError> {
-    run(request, None, observer)
+    run(request, None, None, observer)
+}
+
+/// [`bench`] with the dense-output check of every row (`bench --dense K`, [`crate::dense`]):
+/// one more, untimed run per row that reports its steps and K samples inside each.
+pub fn bench_with_dense(
+    request: BenchRequest<'_>,
+    dense: Option<usize>,
+    observer: &mut dyn BenchObserver,
+) -> Result<BenchReport, HarnessError> {
+    run(request, None, dense, observer)
 }
 
 /// Run a benchmark over an ensemble of motions ([`EnsemblePlan`]): the request's case gives a,
@@ -190,12 +210,13 @@ pub fn bench_ensemble(
     plan: &EnsemblePlan,
     observer: &mut dyn BenchObserver,
 ) -> Result<BenchReport, HarnessError> {
-    run(request, Some(plan), observer)
+    run(request, Some(plan), None, observer)
 }
 
 fn run(
     request: BenchRequest<'_>,
     plan: Option<&EnsemblePlan>,
+    dense: Option<usize>,
     observer: &mut dyn BenchObserver,
 ) -> Result<BenchReport, HarnessError> {
     const { assert!(MAX_BENCH_SAMPLES <= MAX_SAMPLES) };
@@ -217,6 +238,18 @@ fn run(
     let has_builtins = methods.iter().any(|m| matches!(m, BenchMethod::BuiltIn(_)));
     if has_builtins && !specs.iter().all(|s| s.name.index() < 12) {
         return Err(setting(&["event"], "the built-in methods locate events of functions of the state (omega, alpha, beta, gamma), not the turning points s1, s2".into()));
+    }
+    if let Some(k) = dense {
+        crate::dense::check_dense(k).map_err(|e| setting(&["dense"], e.to_string()))?;
+        let without = methods.iter().find_map(|m| match m {
+            BenchMethod::BuiltIn(n) if !has_dense_check(*n) => Some(*n),
+            _ => None,
+        });
+        if let Some(n) = without {
+            return Err(setting(&["dense"], format!(
+                "the dense check of {n} is not available (rk4, dopri5, dop853 and integrators from outside that report their steps have it)"
+            )));
+        }
     }
     if case.t_end <= 0.0 || case.samples < 2 {
         return Err(setting(
@@ -413,6 +446,9 @@ fn run(
                         let ev = events_of_run(case, &specs, None, &times, &states)?;
                         row.events = Some(ev.counts());
                     }
+                    if let Some(k) = dense {
+                        row.dense = Some(crate::dense::dense_of_method(case, config, k)?);
+                    }
                     row.motion = motion;
                     rows.push(row);
                     labels.push(RowLabel {
@@ -445,6 +481,19 @@ fn run(
                         }
                         let ev = events_of_run(case, &specs, answered.as_deref(), &times, &states)?;
                         row.events = Some(ev.counts());
+                    }
+                    if let Some(k) = dense {
+                        integrator.ask_dense(Some(k));
+                        let once = run_once(&reference, integrator.as_mut());
+                        integrator.ask_dense(None);
+                        once.map_err(plain)?;
+                        let samples = integrator.answered_dense().ok_or_else(|| {
+                            HarnessError::Integrator(format!(
+                                "{what}: --dense needs an integrator that reports its step times and its samples inside them; {} does not",
+                                integrator.name()
+                            ))
+                        })?;
+                        row.dense = Some(crate::dense::dense_of_samples(case, k, &samples)?);
                     }
                     row.motion = motion;
                     environment.record(integrator.as_ref());

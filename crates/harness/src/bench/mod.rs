@@ -13,9 +13,9 @@ pub mod diagrams;
 mod flow;
 
 pub use flow::{
-    bench, bench_ensemble, default_mp_digits, label_of, BenchIntegrator, BenchMethod,
-    BenchObserver, BenchReport, BenchRequest, EnsemblePlan, OutsideMethod, Quiet, RowLabel,
-    MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
+    bench, bench_ensemble, bench_with_dense, default_mp_digits, label_of, BenchIntegrator,
+    BenchMethod, BenchObserver, BenchReport, BenchRequest, EnsemblePlan, OutsideMethod, Quiet,
+    RowLabel, MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
 };
 
 use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Tolerances};
@@ -63,6 +63,9 @@ pub struct BenchRow {
     /// Events located against the exact ones (`bench --event`; docs/events.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub events: Option<crate::events::EventCounts>,
+    /// The dense-output check (`bench --dense K`; [`crate::dense`]).
+    #[serde(default, flatten, skip_serializing_if = "Option::is_none")]
+    pub dense: Option<crate::dense::DenseReport>,
 }
 
 /// The closed-form motion of a case at its sample times, at a given precision.
@@ -280,6 +283,7 @@ fn summarize(
         rhs_evals: traj.stats.rhs_evals,
         wall_seconds: (!walls.is_empty()).then(|| median(&walls)),
         events: None,
+        dense: None,
     })
 }
 
