@@ -40,7 +40,8 @@ Examples:
   rsts check - --input-format csv < out/traj.csv
 
 FILE by extension: .csv (header t,omega1,omega2,omega3,alpha1,alpha2,alpha3,beta1,beta2,beta3;
-other columns ignored), .json ({\"samples\": [{\"t\", \"omega\", \"alpha\", \"beta\"}]}), .npy
+other columns ignored), .json ({\"samples\": [{\"t\", \"omega\", \"alpha\", \"beta\"}]}, and the
+\"stats\" of `rsts integrate --format json`, reported as the run's cost), .npy
 (float64, shape (N, 10), or (N, 13) as `rsts reference -o x.npy` writes it), .mcap
 (/integrated/state of an rsts log). Times strictly increasing,
 any spacing. Without --m/--h the motion is identified from the first row (which must lie on N).
@@ -241,6 +242,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         None => 15,
     };
     let samples = raw.to_samples(request.reference_bits());
+    let stated = raw.stats;
     drop(raw);
     let t_extent = samples
         .times
@@ -266,16 +268,19 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let stop = stop_on_ctrl_c();
     let mut observer = CliObserver::new(log, samples.times.len() as u64, stop);
     let pool = args.jobs.pool()?;
-    let report = match pool.install(|| start.run(&samples.times, &samples.states, &mut observer)) {
-        Ok(report) => report,
-        Err(e) => {
-            // A failed check discards its log: the temporary is removed, a previous file stays.
-            observer.bar.finish_and_clear();
-            drop(observer);
-            return Err(anyhow!("{e}"));
-        }
-    };
+    let mut report =
+        match pool.install(|| start.run(&samples.times, &samples.states, &mut observer)) {
+            Ok(report) => report,
+            Err(e) => {
+                // A failed check discards its log: the temporary is removed, a previous file stays.
+                observer.bar.finish_and_clear();
+                drop(observer);
+                return Err(anyhow!("{e}"));
+            }
+        };
     let log_stats = observer.finish()?;
+    // What the run cost is known only where the file states it (JSON `stats`).
+    report.report.set_stated_stats(&stated);
     check_finite_report(&report.report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     let case = &report.case;
