@@ -536,6 +536,66 @@ fn i8_duplicate_columns_are_refused_and_a_bom_is_accepted() {
     );
 }
 
+/// An MCAP log whose `/integrated/state` holds one message per state (t, ω, α, β as JSON).
+fn mcap_of_states(path: &Path, states: &[(f64, Vec<f64>, [f64; 3], [f64; 3])]) {
+    let file = std::io::BufWriter::new(fs::File::create(path).unwrap());
+    let mut w = mcap::Writer::new(file).unwrap();
+    let schema = w.add_schema("rsts.BodyState", "jsonschema", b"{}").unwrap();
+    let none = std::collections::BTreeMap::new();
+    let channel = w
+        .add_channel(schema, "/integrated/state", "json", &none)
+        .unwrap();
+    for (k, (t, omega, alpha, beta)) in states.iter().enumerate() {
+        let data = serde_json::json!({"t": t, "omega": omega, "alpha": alpha, "beta": beta});
+        let ns = (t * 1e9) as u64;
+        let header = mcap::records::MessageHeader {
+            channel_id: channel,
+            sequence: k as u32,
+            log_time: ns,
+            publish_time: ns,
+        };
+        w.write_to_known_channel(&header, data.to_string().as_bytes())
+            .unwrap();
+    }
+    w.finish().unwrap();
+}
+
+/// An MCAP `omega` of four elements is refused, as CSV and JSON refuse it; the same log with
+/// three is checked.
+#[test]
+fn i8_an_mcap_omega_of_four_elements_is_refused() {
+    let d = dir("mcap-omega4");
+    let text = fs::read_to_string(reference_csv(&d)).unwrap();
+    let row: Vec<f64> = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let state = |omega: Vec<f64>| {
+        vec![(
+            row[0],
+            omega,
+            [row[4], row[5], row[6]],
+            [row[7], row[8], row[9]],
+        )]
+    };
+    let three = d.join("three.mcap");
+    mcap_of_states(&three, &state(row[1..4].to_vec()));
+    let out = rsts(&["check", s(&three)]);
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    let four = d.join("four.mcap");
+    mcap_of_states(&four, &state(vec![row[1], row[2], row[3], 0.0]));
+    let out = rsts(&["check", s(&four)]);
+    let e = stderr(&out);
+    assert_eq!(code(&out), Some(2), "{e}");
+    assert!(
+        e.contains("message 1 of /integrated/state: \"omega\" must be an array of 3 numbers"),
+        "{e}"
+    );
+}
+
 #[test]
 fn i8_a_suite_with_no_methods_is_refused() {
     let d = dir("no-methods");
