@@ -752,3 +752,66 @@ fn user_the_error_plot_draws_the_distance_from_n() {
     assert!(svg.contains("dopri5@1e-8 distance from N"), "legend");
     assert!(!svg.contains("off N"), "off_N is not drawn as the distance");
 }
+
+/// SIGTERM and SIGHUP are handled as Ctrl-C: a run killed while writing removes its temporary,
+/// exits 130 and leaves the previous file as it was (before, the temporary stayed behind).
+#[test]
+fn sigterm_and_sighup_remove_the_temporary() {
+    for (name, signal) in [("term", libc::SIGTERM), ("hup", libc::SIGHUP)] {
+        let d = dir(&format!("signal-{name}"));
+        let target = d.join("big.csv");
+        fs::write(&target, "previous").unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_rsts"))
+            .args([
+                "reference",
+                "--t-end",
+                "1e4",
+                "--samples",
+                "2000000",
+                "-o",
+                s(&target),
+            ])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let temporary = |d: &Path| entries(d).into_iter().any(|e| e.contains(".tmp-"));
+        let until = Instant::now() + Duration::from_secs(60);
+        while !temporary(&d) {
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "{name}: done before its temporary was seen"
+            );
+            assert!(Instant::now() < until, "{name}: no temporary after 60 s");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        // SAFETY: plain kill(2) on our own child.
+        unsafe {
+            libc::kill(child.id() as i32, signal);
+        }
+        let out = guarded_wait(child, 60);
+        assert_eq!(
+            code(&out),
+            Some(130),
+            "{name}: {:?} {}",
+            out.status,
+            stderr(&out)
+        );
+        assert_eq!(entries(&d), ["big.csv"], "{name}");
+        assert_eq!(fs::read_to_string(&target).unwrap(), "previous", "{name}");
+    }
+}
+
+/// Wait for `child`, killing it after `guard` seconds (then the test fails).
+fn guarded_wait(mut child: std::process::Child, guard: u64) -> Output {
+    let until = Instant::now() + Duration::from_secs(guard);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > until {
+            let _ = child.kill();
+            panic!("still running after {guard} s: killed");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
