@@ -536,8 +536,11 @@ fn i8_duplicate_columns_are_refused_and_a_bom_is_accepted() {
     );
 }
 
+/// A logged state: t, ω (of any length), α, β.
+type Logged = (f64, Vec<f64>, [f64; 3], [f64; 3]);
+
 /// An MCAP log whose `/integrated/state` holds one message per state (t, ω, α, β as JSON).
-fn mcap_of_states(path: &Path, states: &[(f64, Vec<f64>, [f64; 3], [f64; 3])]) {
+fn mcap_of_states(path: &Path, states: &[Logged]) {
     let file = std::io::BufWriter::new(fs::File::create(path).unwrap());
     let mut w = mcap::Writer::new(file).unwrap();
     let schema = w.add_schema("rsts.BodyState", "jsonschema", b"{}").unwrap();
