@@ -599,6 +599,27 @@ fn i8_an_mcap_omega_of_four_elements_is_refused() {
     );
 }
 
+/// A suite's errors say "suite" once: the option, the file, the case, the reason (they read
+/// "--suite: suite: s.toml: suite: case 'tiny': suite: invalid integrator settings: …").
+#[test]
+fn suite_errors_do_not_repeat_their_prefixes() {
+    let d = dir("prefixes");
+    for (extra, reason) in [
+        ("methods = [\"nope\"]\n", "unknown method 'nope'"),
+        ("tori = 5\n", "torus 5 does not exist"),
+        ("t_end = -1\n", "t_end must be non-negative"),
+    ] {
+        let suite = d.join("s.toml");
+        fs::write(&suite, TINY_SUITE.replace("t_end = 1\n", "") + extra).unwrap();
+        let out = rsts(&["validate", "--suite", s(&suite), "--list"]);
+        let e = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{e}");
+        let head = format!("error: --suite: {}: case 'tiny': ", suite.display());
+        assert!(e.starts_with(&head) && e.contains(reason), "{e}");
+        assert!(!e[head.len()..].contains("suite"), "{e}");
+    }
+}
+
 #[test]
 fn i8_a_suite_with_no_methods_is_refused() {
     let d = dir("no-methods");
