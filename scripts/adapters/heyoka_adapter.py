@@ -134,7 +134,7 @@ def main():
     name = f"heyoka-{method}" + (f"-{req['digits']}d" if method == "mpfr" else "")
     extra = {"events": answer_events} if "events" in req else {}
     json.dump(
-        {"name": name, "samples": samples, **extra,
+        {"name": name, "version": f"heyoka {hy.__version__}", "samples": samples, **extra,
          "stats": {"steps": int(steps), "rhs_evals": int(steps) * int(ta.order), "integration_seconds": seconds}},
         sys.stdout,
     )

@@ -21,6 +21,7 @@ import sys
 import time
 
 import numpy as np
+import scipy
 from scipy.integrate import solve_ivp
 
 METHODS = ("RK45", "DOP853", "Radau", "LSODA")
@@ -99,7 +100,7 @@ def main():
     stats = {"rhs_evals": int(nfev), "integration_seconds": seconds}
     if steps is not None:
         stats["steps"] = int(steps)
-    answer = {"name": f"scipy-{method}", "samples": samples, "stats": stats}
+    answer = {"name": f"scipy-{method}", "version": f"scipy {scipy.__version__}", "samples": samples, "stats": stats}
     # At a fixed step solve_ivp's events are not used: no "events" (rsts then locates them in
     # the samples).
     if "events" in req and step is None:

@@ -39,3 +39,25 @@ pub fn exec_integrator(
     exec.with_timeout(timeout)
         .map_err(|e| anyhow!("--exec-timeout: {e}"))
 }
+
+/// An `--exec` command as a method of a benchmark: an [`Exec`] per tolerance.
+pub struct ExecMethod {
+    pub command: String,
+    pub timeout: f64,
+}
+
+impl rsts_harness::bench::OutsideMethod for ExecMethod {
+    fn what(&self) -> String {
+        "--exec".into()
+    }
+
+    fn at(
+        &mut self,
+        tolerances: Tolerances,
+        digits: u32,
+    ) -> Result<Box<dyn rsts_harness::bench::BenchIntegrator>, rsts_harness::HarnessError> {
+        let exec = exec_integrator(&self.command, tolerances, Some(digits), self.timeout)
+            .map_err(|e| rsts_harness::HarnessError::Integrator(format!("{e:#}")))?;
+        Ok(Box::new(exec))
+    }
+}

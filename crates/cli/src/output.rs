@@ -353,6 +353,20 @@ pub fn write_missing_cameras(out: &mut dyn Write, found: impl Fn(&str) -> bool) 
     )
 }
 
+/// Count one more done on `bar`, drawing it on stderr once the run has taken a second, and only
+/// on a terminal (`shown` remembers that it is drawn).
+pub fn tick_progress(bar: &indicatif::ProgressBar, started: std::time::Instant, shown: &mut bool) {
+    use std::io::IsTerminal;
+    if !*shown
+        && started.elapsed() > std::time::Duration::from_secs(1)
+        && std::io::stderr().is_terminal()
+    {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        *shown = true;
+    }
+    bar.inc(1);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -257,6 +257,7 @@ fn run() -> Result<Value, String> {
     let seconds = started.elapsed().as_secs_f64();
     let mut answer = json!({
         "name": if tableau.name == "rk4" { "example-rk4".to_string() } else { format!("example-{}", tableau.name) },
+        "version": concat!("example-adapter-rk4 ", env!("CARGO_PKG_VERSION")),
         "samples": samples,
         "stats": {"steps": steps, "rhs_evals": tableau.b.len() as u64 * steps, "integration_seconds": seconds},
     });

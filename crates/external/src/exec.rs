@@ -17,8 +17,9 @@
 //! Parameters and the initial state are decimal strings carrying `digits` digits (the exact
 //! values the closed-form reference uses, rounded to that many digits); times are JSON numbers,
 //! starting at 0. The answer has one sample per time; its numbers may be JSON numbers or decimal
-//! strings; `name`, `stats` and `digits` (the integrator's working precision in decimal digits,
-//! e.g. 15 for f64, reported instead of the request's) are optional. Instead of JSON the answer may be the CSV of
+//! strings; `name`, `stats`, `digits` (the integrator's working precision in decimal digits,
+//! e.g. 15 for f64, reported instead of the request's) and `version` (its library's version,
+//! recorded in the reports' environment) are optional. Instead of JSON the answer may be the CSV of
 //! `rsts check` (header `t,omega1,…,beta3`). rsts measures the child's wall time; the
 //! `integration_seconds` of the answer, when present, is the time reported.
 //!
@@ -140,6 +141,8 @@ pub struct Exec {
     answered_name: Option<String>,
     /// The working precision the answer stated (`"digits"`), reported instead of the request's.
     answered_digits: Option<u32>,
+    /// The library version the answer stated (`"version"`), recorded in reports' environment.
+    answered_version: Option<String>,
     pub tolerances: Tolerances,
     /// Digits of the parameters and initial state in the request (also the precision the
     /// reference must exceed).
@@ -170,6 +173,7 @@ impl Exec {
             name: None,
             answered_name: None,
             answered_digits: None,
+            answered_version: None,
             tolerances,
             digits: DEFAULT_DIGITS,
             timeout: Duration::from_secs_f64(DEFAULT_TIMEOUT_SECONDS),
@@ -363,6 +367,7 @@ impl Exec {
         }
         let mut answered = None;
         let mut digits = None;
+        let mut version = None;
         let mut answered_events = None;
         let (raw, stats) = if text.trim_start().starts_with('{') {
             let doc: Value =
@@ -384,6 +389,9 @@ impl Exec {
                     })?;
                 digits = Some(d as u32);
             }
+            if let Some(v) = doc.get("version").filter(|v| !v.is_null()) {
+                version = Some(check_version(v).map_err(garbage)?);
+            }
             answered_events = match doc.get("events") {
                 None => None,
                 Some(v) => Some(parse_events(v).map_err(garbage)?),
@@ -397,6 +405,9 @@ impl Exec {
         }
         if digits.is_some() {
             self.answered_digits = digits;
+        }
+        if version.is_some() {
+            self.answered_version = version;
         }
         self.answered_events = answered_events;
         if raw.len() != times.len() {
@@ -433,6 +444,29 @@ impl Exec {
 }
 
 type AnswerStats = (Option<u64>, Option<u64>, Option<f64>);
+
+/// Longest `"version"` an answer may carry (characters).
+pub const MAX_VERSION_CHARS: usize = 200;
+
+/// `version` of an answer: a non-empty string of at most [`MAX_VERSION_CHARS`] characters,
+/// without control characters (it is printed in tables).
+fn check_version(v: &Value) -> Result<String, String> {
+    let s = v
+        .as_str()
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .ok_or("\"version\" must be a non-empty string")?;
+    if s.chars().count() > MAX_VERSION_CHARS {
+        return Err(format!(
+            "\"version\" has {} characters, at most {MAX_VERSION_CHARS} are taken",
+            s.chars().count()
+        ));
+    }
+    if s.chars().any(char::is_control) {
+        return Err("\"version\" must not hold control characters".into());
+    }
+    Ok(s.to_string())
+}
 
 /// `events` of an answer: `[{"name", "t"}]`, t a number or a decimal string.
 fn parse_events(v: &Value) -> Result<Vec<(String, f64)>, String> {
@@ -508,6 +542,10 @@ pub fn stderr_tail(stderr: &[u8]) -> String {
 }
 
 impl Integrator for Exec {
+    fn version(&self) -> Option<String> {
+        self.answered_version.clone()
+    }
+
     fn name(&self) -> String {
         self.name
             .clone()

@@ -104,60 +104,65 @@ fn unquote(s: &str) -> &str {
         .unwrap_or(t)
 }
 
-/// CSV with a header naming at least the ten [`COLUMNS`] (any order; other columns are
-/// ignored). A header written by `numpy.savetxt(..., header=...)` (starting with `# `) is
-/// accepted; other lines starting with `#` and blank lines are skipped.
-pub fn parse_csv(text: &str) -> Result<RawTrajectory, String> {
-    // A byte-order mark (as spreadsheet programs write) is not part of the first column's name.
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(k, l)| (k + 1, l.trim_end_matches('\r')));
-    let (header_line, header) = loop {
-        match lines.next() {
-            None => return Err("empty: no header line".into()),
-            Some((_, l)) if l.trim().is_empty() => continue,
-            Some((k, l)) => break (k, l.trim_start_matches('#').trim()),
+/// The header of a CSV trajectory: where the ten [`COLUMNS`] are.
+#[derive(Clone, Debug)]
+pub(crate) struct CsvHeader {
+    index: [usize; 10],
+    fields: usize,
+}
+
+impl CsvHeader {
+    /// The header on line `line` (`# ` of `numpy.savetxt` stripped).
+    pub(crate) fn parse(line: usize, text: &str) -> Result<Self, String> {
+        let header = text.trim_start_matches('#').trim();
+        let names: Vec<&str> = header.split(',').map(unquote).collect();
+        let mut index = [0usize; 10];
+        let mut missing = Vec::new();
+        for (slot, col) in index.iter_mut().zip(COLUMNS) {
+            match names.iter().position(|n| *n == col) {
+                Some(i) => *slot = i,
+                None => missing.push(col),
+            }
         }
-    };
-    let names: Vec<&str> = header.split(',').map(unquote).collect();
-    let mut index = [0usize; 10];
-    let mut missing = Vec::new();
-    for (slot, col) in index.iter_mut().zip(COLUMNS) {
-        match names.iter().position(|n| *n == col) {
-            Some(i) => *slot = i,
-            None => missing.push(col),
+        if !missing.is_empty() {
+            return Err(format!(
+                "line {line}: the header lacks column(s) {} (need {})",
+                missing.join(", "),
+                COLUMNS.join(",")
+            ));
         }
+        if let Some(twice) = COLUMNS
+            .iter()
+            .find(|col| names.iter().filter(|n| *n == *col).count() > 1)
+        {
+            return Err(format!(
+                "line {line}: the header names column {twice} more than once (which one is meant?)"
+            ));
+        }
+        Ok(Self {
+            index,
+            fields: names.len(),
+        })
     }
-    if !missing.is_empty() {
-        return Err(format!(
-            "line {header_line}: the header lacks column(s) {} (need {})",
-            missing.join(", "),
-            COLUMNS.join(",")
-        ));
-    }
-    if let Some(twice) = COLUMNS
-        .iter()
-        .find(|col| names.iter().filter(|n| *n == *col).count() > 1)
-    {
-        return Err(format!(
-            "line {header_line}: the header names column {twice} more than once (which one is meant?)"
-        ));
-    }
-    let mut raw = RawTrajectory::default();
-    for (k, line) in lines {
+
+    /// The sample on line `k`; `None` for a blank or comment line.
+    pub(crate) fn row(
+        &self,
+        k: usize,
+        line: &str,
+    ) -> Result<Option<(Number, [Number; 9])>, String> {
         if line.trim().is_empty() || line.trim_start().starts_with('#') {
-            continue;
+            return Ok(None);
         }
         let fields: Vec<&str> = line.split(',').map(unquote).collect();
-        if fields.len() != names.len() {
+        if fields.len() != self.fields {
             return Err(format!(
                 "line {k}: {} fields, the header has {} (a truncated or malformed row)",
                 fields.len(),
-                names.len()
+                self.fields
             ));
         }
+        let index = &self.index;
         let value = |c: usize| {
             check_text(fields[index[c]])
                 .and_then(|n| if c > 0 { check_component(n) } else { Ok(n) })
@@ -168,7 +173,32 @@ pub fn parse_csv(text: &str) -> Result<RawTrajectory, String> {
         for (c, slot) in state.iter_mut().enumerate() {
             *slot = value(c + 1)?;
         }
-        raw.push(t, state, format!("line {k}"));
+        Ok(Some((t, state)))
+    }
+}
+
+/// CSV with a header naming at least the ten [`COLUMNS`] (any order; other columns are
+/// ignored). A header written by `numpy.savetxt(..., header=...)` (starting with `# `) is
+/// accepted; other lines starting with `#` and blank lines are skipped.
+pub fn parse_csv(text: &str) -> Result<RawTrajectory, String> {
+    // A byte-order mark (as spreadsheet programs write) is not part of the first column's name.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(k, l)| (k + 1, l.trim_end_matches('\r')));
+    let header = loop {
+        match lines.next() {
+            None => return Err("empty: no header line".into()),
+            Some((_, l)) if l.trim().is_empty() => continue,
+            Some((k, l)) => break CsvHeader::parse(k, l)?,
+        }
+    };
+    let mut raw = RawTrajectory::default();
+    for (k, line) in lines {
+        if let Some((t, state)) = header.row(k, line)? {
+            raw.push(t, state, format!("line {k}"));
+        }
     }
     Ok(raw)
 }
@@ -273,7 +303,48 @@ pub fn parse_stats(v: Option<&Value>) -> Result<StatedStats, String> {
 /// components, or (N, 13) as `rsts reference` writes it (H, K, G after them, not read); C or
 /// Fortran order.
 pub fn parse_npy(bytes: &[u8]) -> Result<RawTrajectory, String> {
-    let npy = npyz::NpyFile::new(bytes).map_err(|e| format!("not a valid npy file ({e})"))?;
+    let (npy, shape) = npy_open(bytes)?;
+    let NpyShape { rows, width, .. } = shape;
+    let data: Vec<f64> = npy.into_vec().map_err(|e| {
+        format!("truncated or damaged data: {e} (expected {rows} rows of {width} float64)")
+    })?;
+    if data.len() != rows * width {
+        return Err(format!(
+            "truncated: {} values, expected {rows} rows of {width}",
+            data.len()
+        ));
+    }
+    npy_rows(&data, shape)
+}
+
+/// The rows of an npy trajectory from all its values (in the order of `shape`).
+pub(crate) fn npy_rows(data: &[f64], shape: NpyShape) -> Result<RawTrajectory, String> {
+    let NpyShape { rows, width, order } = shape;
+    let at = |r: usize, c: usize| match order {
+        npyz::Order::C => data[r * width + c],
+        npyz::Order::Fortran => data[c * rows + r],
+    };
+    let mut raw = RawTrajectory::default();
+    for r in 0..rows {
+        let (t, state) = npy_row(r, |c| at(r, c))?;
+        raw.push(t, state, format!("row {}", r + 1));
+    }
+    Ok(raw)
+}
+
+/// Rows, columns and order of an npy trajectory.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct NpyShape {
+    pub rows: usize,
+    pub width: usize,
+    pub order: npyz::Order,
+}
+
+/// The header of an npy trajectory, checked: float64, (N, 10) or (N, 13).
+pub(crate) fn npy_open<R: std::io::Read>(
+    reader: R,
+) -> Result<(npyz::NpyFile<R>, NpyShape), String> {
+    let npy = npyz::NpyFile::new(reader).map_err(|e| format!("not a valid npy file ({e})"))?;
     let dtype = match npy.dtype() {
         npyz::DType::Plain(ts) => ts.to_string(),
         other => other.descr(),
@@ -290,37 +361,30 @@ pub fn parse_npy(bytes: &[u8]) -> Result<RawTrajectory, String> {
             COLUMNS.join(",")
         ));
     }
-    let order = npy.order();
-    let rows = shape[0] as usize;
-    let width = shape[1] as usize;
-    let data: Vec<f64> = npy.into_vec().map_err(|e| {
-        format!("truncated or damaged data: {e} (expected {rows} rows of {width} float64)")
-    })?;
-    if data.len() != rows * width {
-        return Err(format!(
-            "truncated: {} values, expected {rows} rows of {width}",
-            data.len()
-        ));
-    }
-    let at = |r: usize, c: usize| match order {
-        npyz::Order::C => data[r * width + c],
-        npyz::Order::Fortran => data[c * rows + r],
+    let shape = NpyShape {
+        rows: shape[0] as usize,
+        width: shape[1] as usize,
+        order: npy.order(),
     };
-    let mut raw = RawTrajectory::default();
-    for r in 0..rows {
-        let cell = |c: usize| {
-            check_f64(at(r, c))
-                .and_then(|n| if c > 0 { check_component(n) } else { Ok(n) })
-                .map_err(|e| format!("row {}, column {} ({}): {e}", r + 1, c + 1, COLUMNS[c]))
-        };
-        let t = cell(0)?;
-        let mut state: [Number; 9] = std::array::from_fn(|_| Number::F64(0.0));
-        for (c, slot) in state.iter_mut().enumerate() {
-            *slot = cell(c + 1)?;
-        }
-        raw.push(t, state, format!("row {}", r + 1));
+    Ok((npy, shape))
+}
+
+/// Row `r` (0-based) of an npy trajectory from its cells (t and the nine components first).
+pub(crate) fn npy_row(
+    r: usize,
+    at: impl Fn(usize) -> f64,
+) -> Result<(Number, [Number; 9]), String> {
+    let cell = |c: usize| {
+        check_f64(at(c))
+            .and_then(|n| if c > 0 { check_component(n) } else { Ok(n) })
+            .map_err(|e| format!("row {}, column {} ({}): {e}", r + 1, c + 1, COLUMNS[c]))
+    };
+    let t = cell(0)?;
+    let mut state: [Number; 9] = std::array::from_fn(|_| Number::F64(0.0));
+    for (c, slot) in state.iter_mut().enumerate() {
+        *slot = cell(c + 1)?;
     }
-    Ok(raw)
+    Ok((t, state))
 }
 
 /// The `/integrated/state` channel of an rsts MCAP log (`rsts compare --mcap`, `rsts check

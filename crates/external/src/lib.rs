@@ -5,16 +5,20 @@
 //!   built-in method;
 //! - [`files`]: trajectories computed elsewhere (CSV, JSON, npy, the `/integrated/state` channel
 //!   of an MCAP log) for `rsts check`, with errors naming file, row and column;
+//! - [`stream`]: the same files (and standard input) in chunks of rows, for a check in
+//!   bounded memory;
 //! - [`samples`]: the values as read and the one rule that turns them into numbers (f64 data
 //!   or exact high-precision decimals).
 //!
 //! Integrators written in Rust do not need this crate: implement
 //! [`rsts_dynamics::integrators::Propagator`] and wrap it in [`rsts_harness::Propagated`].
 
+mod bench;
 pub mod exec;
 pub mod files;
 mod pipes;
 pub mod samples;
+pub mod stream;
 
 pub use exec::{
     check_program, check_timeout, kill_running, split_command, Exec, DEFAULT_DIGITS,
@@ -22,3 +26,4 @@ pub use exec::{
 };
 pub use files::{npy_bytes, npy_header, parse_trajectory, read_trajectory, FileFormat, COLUMNS};
 pub use samples::{Number, RawTrajectory, Samples};
+pub use stream::{check_rest, Survey, TrajectoryReader};

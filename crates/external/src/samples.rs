@@ -183,21 +183,11 @@ impl RawTrajectory {
     /// Check that times strictly increase; the message names the sample's place.
     pub fn check_times(&self) -> Result<(), String> {
         for k in 1..self.times.len() {
-            let (a, b) = (self.times[k - 1].to_f64(), self.times[k].to_f64());
-            // Decimal texts beyond f64 may differ only past the 17th digit: compare exactly.
-            let increasing = if b != a {
-                b > a
-            } else {
-                let hi = self.times[k].to_float(2000, true);
-                let lo = self.times[k - 1].to_float(2000, true);
-                hi > lo
-            };
-            if !increasing {
-                return Err(format!(
-                    "{}: t = {} does not come after the previous sample's t = {} (times must be strictly increasing)",
-                    self.places[k],
-                    show(&self.times[k]),
-                    show(&self.times[k - 1])
+            if !comes_after(&self.times[k - 1], &self.times[k]) {
+                return Err(not_after(
+                    &self.places[k],
+                    &self.times[k],
+                    &self.times[k - 1],
                 ));
             }
         }
@@ -206,7 +196,12 @@ impl RawTrajectory {
 
     /// The samples at `bits` bits by the precision rule.
     pub fn to_samples(&self, bits: u32) -> Samples {
-        let high = self.is_high_precision();
+        self.to_samples_at(bits, self.is_high_precision())
+    }
+
+    /// The samples at `bits` bits, decimal texts read exactly when `high` (the precision rule
+    /// decided for a whole trajectory of which these samples may be a part).
+    pub fn to_samples_at(&self, bits: u32, high: bool) -> Samples {
         Samples {
             times: self.times.iter().map(|t| t.to_float(bits, high)).collect(),
             states: self
@@ -220,6 +215,25 @@ impl RawTrajectory {
             digits: self.digits(),
         }
     }
+}
+
+/// Whether `b` comes strictly after `a` (decimal texts beyond f64 compared exactly).
+pub(crate) fn comes_after(a: &Number, b: &Number) -> bool {
+    let (x, y) = (a.to_f64(), b.to_f64());
+    if x != y {
+        y > x
+    } else {
+        b.to_float(2000, true) > a.to_float(2000, true)
+    }
+}
+
+/// The message of a time that does not come after the previous one.
+pub(crate) fn not_after(place: &str, t: &Number, previous: &Number) -> String {
+    format!(
+        "{place}: t = {} does not come after the previous sample's t = {} (times must be strictly increasing)",
+        show(t),
+        show(previous)
+    )
 }
 
 fn show(n: &Number) -> String {

@@ -196,6 +196,31 @@ impl Analysis {
         Some((exact.map(|v| v.to_float(self.bits)), errors))
     }
 
+    /// Keep the reference exact up to |t| = `t_max` (a stream's later times): when its phase
+    /// clock is not valid that far, the motion of `case` is rebuilt with `t_end` twice `t_max`
+    /// (the state at a time it was valid for does not change: the clock only gains bits).
+    pub(crate) fn reach(&mut self, case: &mut Case, t_max: f64) -> Result<(), HarnessError> {
+        let valid = |until: f64| until >= t_max;
+        if t_max <= case.t_end
+            || (valid(self.motion.valid_until())
+                && self.dd.as_ref().is_none_or(|d| valid(d.valid_until())))
+        {
+            return Ok(());
+        }
+        case.t_end = (2.0 * t_max).min(f64::MAX);
+        let info = RunInfo {
+            method: self.report.method.clone(),
+            rtol: self.report.rtol,
+            atol: self.report.atol,
+            digits: self.report.digits,
+        };
+        let fresh = Self::for_case(case, self.bits, info)?;
+        self.motion = fresh.motion;
+        self.dd = fresh.dd;
+        self.dd_measure = fresh.dd_measure;
+        Ok(())
+    }
+
     /// Precision of the reference.
     pub fn bits(&self) -> u32 {
         self.bits

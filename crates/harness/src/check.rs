@@ -14,6 +14,7 @@ use rsts_dynamics::{Fields, State};
 
 use crate::analysis::{Analysis, Observer, RunInfo};
 use crate::case::Case;
+use crate::check_stream::CheckStream;
 use crate::metrics::Report;
 use crate::{HarnessError, REFERENCE_GUARD_BITS};
 
@@ -187,10 +188,12 @@ pub fn identify_case(
 
 /// A check under way: the motion is known (given or identified), the samples come next.
 pub struct Check {
-    file: String,
-    case: CheckedCase,
-    distance: Option<f64>,
-    analysis: Analysis,
+    pub(crate) file: String,
+    pub(crate) case: CheckedCase,
+    pub(crate) distance: Option<f64>,
+    pub(crate) analysis: Analysis,
+    /// The case of the reference; its `t_end`, the |t| its phase clock is built for.
+    pub(crate) reference: Case,
 }
 
 impl Check {
@@ -257,6 +260,7 @@ impl Check {
             case,
             distance,
             analysis,
+            reference: harness_case,
         })
     }
 
@@ -266,36 +270,23 @@ impl Check {
     }
 
     /// Analyse the samples in time order (each handed to `observer`; when it asks to stop, the
-    /// report says `complete: false`) and report.
+    /// report says `complete: false`) and report: [`CheckStream::feed`] once, then
+    /// [`CheckStream::finish`].
     pub fn run(
-        mut self,
+        self,
         times: &[Float],
         states: &[State<Float>],
         observer: &mut dyn Observer,
     ) -> Result<CheckReport, HarnessError> {
         check_lengths(times, states)?;
-        // Evaluated in parallel on the current rayon pool, recorded in time order.
-        let start_error = self
-            .analysis
-            .sample_all(times, states, observer)?
-            .map(|e| e.state_error);
-        Ok(CheckReport {
-            file: self.file,
-            case: self.case,
-            start_state_error: start_error.unwrap_or(f64::NAN),
-            start_distance_from_n: self.distance,
-            report: self.analysis.finish(),
-            span: (
-                times.first().map_or(f64::NAN, Float::to_f64),
-                times.last().map_or(f64::NAN, Float::to_f64),
-            ),
-            samples_given: times.len(),
-        })
+        let mut stream = CheckStream::new(self);
+        stream.feed(times, states, observer)?;
+        Ok(stream.finish())
     }
 }
 
 /// As many states as times, and at least one.
-fn check_lengths(times: &[Float], states: &[State<Float>]) -> Result<(), HarnessError> {
+pub(crate) fn check_lengths(times: &[Float], states: &[State<Float>]) -> Result<(), HarnessError> {
     if times.len() != states.len() {
         return Err(HarnessError::Case(format!(
             "{} times and {} states",

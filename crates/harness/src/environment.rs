@@ -1,7 +1,11 @@
 //! Where a benchmark ran: CPU model, SIMD path of the Taylor kernels, cores, OS and the rsts
-//! version and commit (recorded at build time; "unknown" when built outside git).
+//! version and commit (recorded at build time; "unknown" when built outside git), and the
+//! library version each integrator from outside states. In every report with a timed figure
+//! (`rsts bench`, `rsts compare`).
 
 use rsts_dynamics::integrators::SimdPath;
+
+use crate::integrator::Integrator;
 use serde::{Deserialize, Serialize};
 
 /// The environment of a report (`environment` in `rsts bench --format json`).
@@ -17,6 +21,17 @@ pub struct Environment {
     pub rsts_version: String,
     /// Git commit the build was made at (uncommitted changes are not marked).
     pub commit: String,
+    /// The library version each integrator from outside stated (`"version"` in its answer);
+    /// those that state none are not listed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub adapters: Vec<AdapterVersion>,
+}
+
+/// An integrator's self-reported library version.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AdapterVersion {
+    pub method: String,
+    pub version: String,
 }
 
 impl Environment {
@@ -40,14 +55,32 @@ impl Environment {
             os: format!("{} {}", std::env::consts::OS, std::env::consts::ARCH),
             rsts_version: env!("CARGO_PKG_VERSION").to_string(),
             commit: env!("RSTS_GIT_COMMIT").to_string(),
+            adapters: Vec::new(),
         }
     }
 
-    /// One line for a table header.
+    /// Record the version `integrator` stated, if any (once per method and version).
+    pub fn record(&mut self, integrator: &dyn Integrator) {
+        if let Some(version) = integrator.version() {
+            let entry = AdapterVersion {
+                method: integrator.name(),
+                version,
+            };
+            if !self.adapters.contains(&entry) {
+                self.adapters.push(entry);
+            }
+        }
+    }
+
+    /// One line for a table header (and the adapters' versions).
     pub fn describe(&self) -> String {
-        format!(
+        let mut line = format!(
             "rsts {} ({}) on {}, {} cores, SIMD {}, {}",
             self.rsts_version, self.commit, self.cpu, self.cores, self.simd, self.os
-        )
+        );
+        for a in &self.adapters {
+            line.push_str(&format!("; {} {}", a.method, a.version));
+        }
+        line
     }
 }

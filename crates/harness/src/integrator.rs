@@ -53,6 +53,11 @@ impl Trajectory {
 pub trait Integrator {
     /// Name in reports, tables, diagrams and suites.
     fn name(&self) -> String;
+    /// The version of the library behind it, when it says (an external integrator's answer);
+    /// recorded in the reports' environment.
+    fn version(&self) -> Option<String> {
+        None
+    }
     /// Tolerances shown in the report (`None`: the integrator has none, e.g. a fixed step).
     fn tolerances(&self) -> Option<Tolerances> {
         None

@@ -23,10 +23,12 @@ pub mod analysis;
 pub mod bench;
 mod case;
 pub mod check;
+mod check_stream;
 mod compare;
 pub mod convergence;
 pub mod digits;
 pub mod drift_growth;
+pub mod ensemble;
 pub mod environment;
 pub mod events;
 pub mod geometry;
@@ -36,12 +38,17 @@ pub mod integrator;
 mod metrics;
 pub mod proportionality;
 pub mod reference;
+pub mod rounded_explicit;
 pub mod rounded_reference;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
-pub use bench::{measure, measure_against, measure_integrator, BenchRow, Reference};
+pub use bench::{
+    bench, measure, measure_against, measure_integrator, BenchMethod, BenchReport, BenchRequest,
+    BenchRow, Reference,
+};
 pub use case::Case;
 pub use check::{check, Check, CheckReport, CheckRequest, CheckedCase, GivenMotion};
+pub use check_stream::CheckStream;
 pub use compare::{
     check_finite_report, compare, compare_integrator, preflight, reference_bits,
     reference_bits_for, run_info, CompareOptions, DEFAULT_PIECES, REFERENCE_GUARD_BITS,
@@ -69,6 +76,10 @@ pub enum HarnessError {
     /// An integrator failed (an external process: what it did and the end of its stderr).
     #[error("{0}")]
     Integrator(String),
+    /// Settings of a request that do not go together or are out of range: their names (the
+    /// CLI's options without `--`) and why.
+    #[error("{1}")]
+    Setting(Vec<String>, String),
 }
 
 /// Largest number of samples or times a run accepts (every sample is kept in memory by some
@@ -92,6 +103,7 @@ impl HarnessError {
             HarnessError::Dynamics(rsts_dynamics::DynamicsError::Settings(_)) => {
                 &["t-end", "rtol", "atol"]
             }
+            HarnessError::Setting(names, _) => return names.clone(),
             HarnessError::Case(msg) => {
                 return ["t-end", "samples", "phase1", "phase2", "a", "b", "m", "h"]
                     .into_iter()

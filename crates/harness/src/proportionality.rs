@@ -95,6 +95,7 @@ mod tests {
 
     fn row(method: &str, tolerance: f64, max_error: f64) -> BenchRow {
         BenchRow {
+            motion: None,
             method: method.into(),
             tolerance,
             max_error,

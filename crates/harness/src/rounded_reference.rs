@@ -85,6 +85,11 @@ impl DdReference {
         self.bounds.round(&self.values(t))
     }
 
+    /// The largest |t| at which the phase is exact to double-double.
+    pub fn valid_until(&self) -> f64 {
+        self.motion.valid_until()
+    }
+
     /// The calibrated absolute error bound of each value.
     pub fn bounds(&self) -> &[f64; VALUES] {
         &self.bounds.bounds

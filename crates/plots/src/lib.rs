@@ -52,6 +52,9 @@ pub struct Series {
     pub dashed: bool,
     /// A short text beside each point (e.g. the tolerance it was run at); empty: none.
     pub point_labels: Vec<String>,
+    /// A shaded band in the series' colour, drawn under it: pairs (one edge, other edge) of
+    /// points, the area between the two edges (e.g. the 5 % and 95 % percentiles); empty: none.
+    pub band: Vec<((f64, f64), (f64, f64))>,
 }
 
 impl Series {
@@ -63,6 +66,7 @@ impl Series {
             color: None,
             dashed: false,
             point_labels: Vec::new(),
+            band: Vec::new(),
         }
     }
 
@@ -84,6 +88,28 @@ pub struct Chart {
     pub series: Vec<Series>,
     pub width: u32,
     pub height: u32,
+}
+
+impl Chart {
+    /// A log–log chart of the reports' size (820×540): work–precision, tolerance
+    /// proportionality, observed order.
+    pub fn log_log(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+        series: Vec<Series>,
+    ) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            x_scale: Scale::Log10,
+            y_scale: Scale::Log10,
+            series,
+            width: 820,
+            height: 540,
+        }
+    }
 }
 
 impl Default for Chart {
@@ -238,8 +264,26 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
         let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         lo.is_finite().then_some((lo, hi))
     };
-    let (x0, x1) = extent(pts.iter().flatten().map(|p| p.0).collect()).ok_or(PlotError::Empty)?;
-    let (y0, y1) = extent(pts.iter().flatten().map(|p| p.1).collect()).ok_or(PlotError::Empty)?;
+    // Each band as its polygon: one edge forward, the other back (points off the axes dropped).
+    let bands: Vec<Vec<(f64, f64)>> = chart
+        .series
+        .iter()
+        .map(|s| {
+            let on_axes =
+                |(x, y): (f64, f64)| Some((forward(chart.x_scale, x)?, forward(chart.y_scale, y)?));
+            let mut polygon: Vec<(f64, f64)> = s.band.iter().filter_map(|b| on_axes(b.0)).collect();
+            polygon.extend(s.band.iter().rev().filter_map(|b| on_axes(b.1)));
+            polygon
+        })
+        .collect();
+    let all = || {
+        pts.iter()
+            .flatten()
+            .map(|p| (p.0, p.1))
+            .chain(bands.iter().flatten().copied())
+    };
+    let (x0, x1) = extent(all().map(|p| p.0).collect()).ok_or(PlotError::Empty)?;
+    let (y0, y1) = extent(all().map(|p| p.1).collect()).ok_or(PlotError::Empty)?;
     let (x0, x1) = axis::range(x0, x1, chart.x_scale);
     let (y0, y1) = axis::range(y0, y1, chart.y_scale);
     let (w, h) = (chart.width as f64, chart.height as f64);
@@ -378,6 +422,26 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
         top + ph / 2.0,
         escape(&chart.y_label)
     );
+    // Bands under the series.
+    for (k, (series, polygon)) in chart.series.iter().zip(&bands).enumerate() {
+        if polygon.len() < 3 {
+            continue;
+        }
+        let color = series
+            .color
+            .clone()
+            .unwrap_or_else(|| PALETTE[k % PALETTE.len()].to_string());
+        let path: Vec<String> = polygon
+            .iter()
+            .map(|&(x, y)| format!("{:.2},{:.2}", sx(x), sy(y)))
+            .collect();
+        let _ = writeln!(
+            s,
+            r#"<polygon class="band" data-label="{}" fill="{color}" fill-opacity="0.18" stroke="none" points="{}"/>"#,
+            escape(&series.label),
+            path.join(" ")
+        );
+    }
     // Series.
     let mut labels: Vec<(f64, f64, f64, String, String)> = Vec::new();
     for (k, (series, p)) in chart.series.iter().zip(&pts).enumerate() {
@@ -598,6 +662,52 @@ mod tests {
         for t in tolerances {
             assert_eq!(block.matches(&format!(">{t}<")).count(), 2, "{t}");
         }
+    }
+
+    /// A band is one polygon in its series' colour, its edges at the points given (the low
+    /// edge forward, the high edge back), inside the frame, which widens to hold it.
+    #[test]
+    fn a_band_is_shaded_between_its_edges() {
+        let mut s = Series::new(
+            "dop853",
+            vec![(1e-8, 1e-3), (1e-10, 2e-3), (1e-12, 4e-3)],
+            Style::LineMarkers,
+        );
+        s.band = vec![
+            ((1e-9, 1e-3), (1e-7, 1e-3)),
+            ((1e-11, 2e-3), (1e-9, 2e-3)),
+            ((1e-13, 4e-3), (1e-11, 4e-3)),
+        ];
+        s.color = Some("#D55E00".into());
+        let svg = render_svg(&chart(vec![s], Scale::Log10, Scale::Log10)).unwrap();
+        let band: Vec<&str> = svg
+            .lines()
+            .filter(|l| l.contains(r#"class="band""#))
+            .collect();
+        assert_eq!(band.len(), 1, "{svg}");
+        assert!(band[0].contains(r##"fill="#D55E00""##));
+        let pts: Vec<(f64, f64)> = attrs(band[0], "<polygon", "points")[0]
+            .split(' ')
+            .map(|p| {
+                let (x, y) = p.split_once(',').unwrap();
+                (x.parse().unwrap(), y.parse().unwrap())
+            })
+            .collect();
+        assert_eq!(pts.len(), 6);
+        // Low edge forward, high edge back: x of points 0 and 5 (same y) differ by 2 decades.
+        assert_eq!(pts[0].1, pts[5].1);
+        assert!(pts[5].0 > pts[0].0);
+        let x: Vec<String> = attrs(&svg, r#"class="tick x""#, "data-v");
+        assert_eq!(
+            x.first().map(String::as_str),
+            Some("1e-13"),
+            "the axis holds the band"
+        );
+        assert_eq!(x.last().map(String::as_str), Some("1e-7"));
+        assert!(
+            svg.find(r#"class="band""#) < svg.find(r#"class="series""#),
+            "drawn under the line"
+        );
     }
 
     #[test]

@@ -52,6 +52,14 @@ pub(crate) fn whole(name: &str, x: i64) -> PyResult<usize> {
 }
 
 impl Case {
+    /// The case given, else the README's (`Case.default()`).
+    pub(crate) fn or_default(case: Option<Case>) -> PyResult<Self> {
+        match case {
+            Some(c) => Ok(c),
+            None => Self::checked(rsts_harness::Case::default_i_plus()),
+        }
+    }
+
     /// Check a harness case (its a, b, m, h, torus, phases; the grid is the caller's).
     pub(crate) fn checked(case: rsts_harness::Case) -> PyResult<Self> {
         let case = rsts_harness::Case {

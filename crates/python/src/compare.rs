@@ -1,6 +1,7 @@
 //! `rsts.compare`: a built-in method or a Python callable against the closed form
 //! (`rsts compare --format json`), and the callable as a harness [`Integrator`].
 
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use numpy::PyArray1;
@@ -10,6 +11,7 @@ use rug::Float;
 
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Problem, Stats, Tolerances};
 use rsts_dynamics::State;
+use rsts_harness::environment::Environment;
 use rsts_harness::{
     check_finite_report, check_times, compare_integrator, preflight, CompareOptions, HarnessError,
     Integrator, Observer, Report, SampleRecord, Trajectory, MAX_SAMPLES,
@@ -19,13 +21,15 @@ use crate::case::{whole, Case};
 use crate::{arrays, harness_error, report_dict, value_error, Interrupts};
 
 /// A Python callable `f(x0, times, a, b, rtol, atol)` as an integrator: called once per run
-/// (not restartable), with numpy arrays, the GIL held during the call.
+/// (not restartable), with numpy arrays, the GIL held during the call, its time measured
+/// around the call.
 pub(crate) struct Callable {
-    func: Py<PyAny>,
-    name: String,
+    func: Arc<Py<PyAny>>,
+    pub(crate) name: String,
     tolerances: Tolerances,
-    /// The exception of the call or of its answer, raised as it is after the run.
-    pub(crate) error: Option<PyErr>,
+    /// The exception of the call or of its answer, raised as it is after the run (one slot
+    /// shared by the callable's integrators at every tolerance).
+    error: Arc<Mutex<Option<PyErr>>>,
 }
 
 impl Callable {
@@ -36,11 +40,26 @@ impl Callable {
             .and_then(|n| n.extract::<String>())
             .unwrap_or_else(|_| "python".into());
         Ok(Self {
-            func: func.clone().unbind(),
+            func: Arc::new(func.clone().unbind()),
             name,
             tolerances,
-            error: None,
+            error: Arc::default(),
         })
+    }
+
+    /// The same callable at other tolerances (sharing its error slot).
+    pub(crate) fn at(&self, tolerances: Tolerances) -> Self {
+        Self {
+            func: self.func.clone(),
+            name: self.name.clone(),
+            tolerances,
+            error: self.error.clone(),
+        }
+    }
+
+    /// The exception a call raised (or its answer caused), once.
+    pub(crate) fn take_error(&self) -> Option<PyErr> {
+        self.error.lock().ok()?.take()
     }
 
     /// Call the function and read its answer: (len(times), 9) finite values.
@@ -114,7 +133,9 @@ impl Integrator for Callable {
             }),
             Err(e) => {
                 let text = Python::attach(|py| e.value(py).to_string());
-                self.error = Some(e);
+                if let Ok(mut slot) = self.error.lock() {
+                    *slot = Some(e);
+                }
                 Err(HarnessError::Integrator(text))
             }
         }
@@ -176,10 +197,7 @@ pub fn compare<'py>(
     atol: f64,
     digits: Option<i64>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let case = match case {
-        Some(c) => c,
-        None => Case::checked(rsts_harness::Case::default_i_plus())?,
-    };
+    let case = Case::or_default(case)?;
     let samples = whole("samples", samples)?;
     if samples > MAX_SAMPLES {
         return Err(value_error(
@@ -235,12 +253,26 @@ pub fn compare<'py>(
     }
     // A report with a non-finite figure is an error, as in the CLI.
     check_finite_report(&report).map_err(harness_error)?;
-    report_dict(py, &report)
+    report_dict(
+        py,
+        &Timed {
+            report: &report,
+            environment: Environment::detect(),
+        },
+    )
+}
+
+/// The report with where its time was taken, as `rsts compare --format json` prints it.
+#[derive(serde::Serialize)]
+struct Timed<'a> {
+    #[serde(flatten)]
+    report: &'a Report,
+    environment: Environment,
 }
 
 fn chosen_error(chosen: &mut Chosen) -> Option<PyErr> {
     match chosen {
-        Chosen::Callable(c) => c.error.take(),
+        Chosen::Callable(c) => c.take_error(),
         Chosen::Method(_) => None,
     }
 }

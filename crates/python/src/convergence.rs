@@ -28,10 +28,7 @@ pub fn convergence<'py>(
     order: Option<i64>,
     digits: i64,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let case = match case {
-        Some(c) => c,
-        None => Case::checked(rsts_harness::Case::default_i_plus())?,
-    };
+    let case = Case::or_default(case)?;
     let samples = whole("samples", samples)?;
     if methods.is_empty() {
         return Err(value_error(&["methods"], "give at least one method"));

@@ -1,5 +1,5 @@
-//! The Python package `rsts` (module `rsts._rsts`): the exact reference, identify, compare and
-//! check of the CLI, from Python, with numpy arrays in and out.
+//! The Python package `rsts` (module `rsts._rsts`): the exact reference, identify, compare,
+//! check and bench of the CLI, from Python, with numpy arrays in and out.
 //!
 //! Two faces, one library: every function parses its arguments, calls the same library function
 //! as the CLI command of the same name, and returns the CLI's report as a dict, converted from
@@ -16,6 +16,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 mod arrays;
+mod bench;
 mod case;
 mod check;
 mod compare;
@@ -111,6 +112,7 @@ fn _rsts(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<case::Case>()?;
     m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(bench::bench, m)?)?;
     m.add_function(wrap_pyfunction!(check::check, m)?)?;
     m.add_function(wrap_pyfunction!(convergence::convergence, m)?)?;
     m.add_function(wrap_pyfunction!(events::events, m)?)?;

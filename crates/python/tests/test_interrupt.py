@@ -23,7 +23,10 @@ def ctrl_c_after(seconds):
     lambda: rsts.Case.default().reference(np.linspace(0.0, 1e4, 1_000_000)),
     lambda: rsts.compare("dop853", t_end=1e5, samples=1_000_001, rtol=1e-12, atol=1e-12),
     lambda: rsts.compare(lambda *args: time.sleep(60), t_end=1.0, samples=3),
-], ids=["reference", "compare", "callable"])
+    # about a minute of runs, each well under a second: stopped between them
+    lambda: rsts.bench(["dop853"], tolerances=list(np.geomspace(1e-8, 1e-13, 100)), t_end=1e4),
+    lambda: rsts.bench(["dop853", lambda *args: time.sleep(60)], t_end=1.0, samples=3),
+], ids=["reference", "compare", "callable", "bench", "bench-callable"])
 def test_ctrl_c_raises_keyboardinterrupt(work):
     timer = ctrl_c_after(0.5)
     start = time.monotonic()

@@ -3,33 +3,25 @@
 //! (median of repeats), steps and right-hand-side evaluations; a table, JSON rows, and a
 //! log–log diagram of error against time. External integrators (`--exec`, e.g. heyoka through
 //! scripts/adapters/heyoka_adapter.py) are measured the same way and drawn dashed beside ours.
+//! The flow is [`rsts_harness::bench()`]; this parses, calls and formats.
 
-use std::collections::btree_map::{BTreeMap, Entry};
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context};
 use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use serde::Serialize;
 
-use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances, MAX_MP_DIGITS};
-use rsts_harness::{
-    measure_against, measure_integrator, preflight, reference_bits, reference_bits_for, BenchRow,
-    Case, Integrator, Reference,
-};
+use rsts_closed_form::Camera;
+use rsts_dynamics::integrators::MethodName;
+use rsts_harness::bench::{bench_ensemble, diagrams, BenchObserver, BenchReport, EnsemblePlan};
+use rsts_harness::{bench, BenchMethod, BenchRequest, Case, HarnessError};
 
-mod plots;
+mod bands;
 
-use rsts_harness::environment::Environment;
-use rsts_harness::proportionality::{fit_tolerances, ToleranceFit};
-
-use rsts_harness::bench::run_once;
-use rsts_harness::events::events_of_run;
-
-use crate::args::{case_error, count, finite_f64, CaseArgs, MethodParser, MAX_SAMPLES};
-use crate::external::{exec_integrator, TimeoutArgs};
+use crate::args::{case_error, count, finite_f64, CaseArgs, MethodParser};
+use crate::external::{ExecMethod, TimeoutArgs};
 use crate::output::{self, Cell, Format, Tabular};
 
 /// Shown at the end of `rsts bench --help`.
@@ -58,6 +50,10 @@ Examples:
   # needs: heyoka
   rsts bench --methods taylor-f64 --exec \".venv-adapters/bin/python scripts/adapters/heyoka_adapter.py f64\" \\
       --tolerances 1e-8,1e-10,1e-12,1e-14 --svg out/wp.svg
+
+  # an ensemble: 18 motions, two from each camera (seed 2013 unless --seed), the median and
+  # 5–95 % band of the error and time per method and tolerance; --svg shades the bands
+  rsts bench --ensemble 18 --t-end 20 --repeats 1 --svg out/wp-ensemble.svg
 
   # any program speaking rsts-integrator/1 (docs/own-integrator.md); repeat --exec for more
   cargo build --release -p example-adapter-rk4
@@ -120,9 +116,27 @@ pub struct Args {
     /// each method's fitted C·tol^p) to this SVG file
     #[arg(long, value_name = "FILE")]
     pub svg_tolerance: Option<PathBuf>,
+    /// Run over an ensemble of N motions (1 to 1000) drawn from the cameras (docs/benchmarks.md):
+    /// --m, --h, --torus and the phases are replaced by each motion's; the table shows per method
+    /// and tolerance the median and 5–95 % band of the error and time, the JSON adds the motions,
+    /// the bands and each row's motion, --svg draws the bands
+    #[arg(long, value_name = "N", value_parser = count)]
+    pub ensemble: Option<usize>,
+    /// Seed of the ensemble's motions (the same seed draws the same motions)
+    #[arg(long, value_name = "S", default_value_t = rsts_harness::ensemble::DEFAULT_SEED, requires = "ensemble")]
+    pub seed: u64,
+    /// Cameras the ensemble's motions are drawn from, comma-separated (I+, I-, II+, II-, III,
+    /// IV+, IV-, V, VI; default: all nine), in turn
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = camera, requires = "ensemble")]
+    pub cameras: Vec<Camera>,
     /// Output format
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
+}
+
+/// A camera label of Table 1.
+fn camera(s: &str) -> Result<Camera, String> {
+    s.trim().parse()
 }
 
 impl Args {
@@ -139,94 +153,57 @@ pub enum Cost {
     Steps,
 }
 
-impl Cost {
-    /// The cost of a row.
-    fn of(&self, row: &BenchRow) -> f64 {
-        match self {
-            Cost::Seconds => row.integration_seconds,
-            Cost::RhsEvals => row.rhs_evals as f64,
-            Cost::Steps => row.steps as f64,
-        }
-    }
-
-    fn label(&self, repeats: usize) -> String {
-        match self {
-            Cost::Seconds => format!("integration seconds (median of {repeats})"),
-            Cost::RhsEvals => "right-hand-side evaluations".into(),
-            Cost::Steps => "accepted steps".into(),
+impl From<Cost> for diagrams::Cost {
+    fn from(c: Cost) -> Self {
+        match c {
+            Cost::Seconds => diagrams::Cost::Seconds,
+            Cost::RhsEvals => diagrams::Cost::RhsEvals,
+            Cost::Steps => diagrams::Cost::Steps,
         }
     }
 }
 
-/// The JSON of `rsts bench`: the case, the settings and the rows (built-in methods, then the
-/// external integrators).
-#[derive(Serialize)]
-struct Document<'a> {
-    case: &'a Case,
-    repeats: usize,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    taylor_mp_digits: Option<u32>,
-    rows: &'a [BenchRow],
-    /// Tolerance proportionality per method (two tolerances or more).
-    fits: &'a [ToleranceFit],
-    environment: &'a Environment,
+/// Notes to stderr, and a progress bar on a terminal once a benchmark has run a second.
+struct Progress {
+    bar: ProgressBar,
+    started: Instant,
+    shown: bool,
 }
 
-/// A row with how it is labelled and drawn.
-pub(crate) struct Labelled {
-    pub(crate) row: BenchRow,
-    pub(crate) label: String,
-    /// An external integrator (drawn dashed).
-    pub(crate) external: bool,
-}
+impl BenchObserver for Progress {
+    fn note(&mut self, text: &str) {
+        eprintln!("{text}");
+    }
 
-/// Default digits of taylor-mp for the smallest tolerance `tol`.
-pub fn default_mp_digits(tol: f64) -> u32 {
-    let d = (-tol.log10()).ceil().max(0.0) as u32 + 10;
-    d.clamp(10, MAX_MP_DIGITS)
-}
+    fn start(&mut self, total: usize) {
+        self.bar.set_length(total as u64);
+        self.started = Instant::now();
+    }
 
-/// Most samples of a benchmark: the closed-form reference keeps every sample in high precision
-/// (about 1 kB each).
-pub const MAX_BENCH_SAMPLES: usize = 1_000_000;
-/// Most repeats of each run.
-pub const MAX_REPEATS: usize = 1000;
-/// Most steps of a whole benchmark (every method, tolerance and repeat), as estimated up front.
-pub const MAX_TOTAL_STEPS: f64 = 2e9;
+    fn running(&mut self, what: &str) -> Result<(), HarnessError> {
+        self.bar.set_message(what.to_string());
+        Ok(())
+    }
+
+    fn done(&mut self) {
+        output::tick_progress(&self.bar, self.started, &mut self.shown);
+    }
+}
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    if args.samples > MAX_BENCH_SAMPLES {
-        bail!(
-            "--samples: at most {MAX_BENCH_SAMPLES} samples are supported by bench (the reference keeps them all in high precision), got {}",
-            args.samples
-        );
-    }
-    const { assert!(MAX_BENCH_SAMPLES <= MAX_SAMPLES) };
     let case = args.case();
-    case.validate().map_err(case_error)?;
     let specs = crate::commands::events::parse_specs(&args.event)?;
     if let Some(e) = args.max_event_error {
         if e < 0.0 {
             bail!("--max-event-error: must be non-negative, got {e}");
         }
     }
-    if !methods_only_state_events(&args, &specs) {
-        bail!("--event: the built-in methods locate events of functions of the state (omega, alpha, beta, gamma), not the turning points s1, s2");
+    if let Some(path) = &args.svg {
+        rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
     }
-    if args.t_end <= 0.0 || args.samples < 2 {
-        bail!("--t-end/--samples: a benchmark needs T > 0 and at least 2 samples");
-    }
-    if !(1..=MAX_REPEATS).contains(&args.repeats) {
-        bail!(
-            "--repeats: need 1 to {MAX_REPEATS} repeats (the time is their median), got {}",
-            rsts_dynamics::short(args.repeats as f64)
-        );
-    }
-    if args.tolerances.is_empty() {
-        bail!("--tolerances: give at least one tolerance");
-    }
-    for &tol in &args.tolerances {
-        Tolerances::new(tol, tol).context("--tolerances")?;
+    if let Some(path) = &args.svg_tolerance {
+        rsts_io::check_writable(path)
+            .with_context(|| format!("--svg-tolerance {}", path.display()))?;
     }
     let default_methods = [MethodName::Dop853, MethodName::TaylorF64];
     let given = match &args.methods {
@@ -234,252 +211,86 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         None if args.exec.is_empty() => &default_methods,
         None => &[],
     };
-    let mut methods: Vec<MethodName> = Vec::new();
-    for m in given {
-        if !methods.contains(m) {
-            methods.push(*m);
-        }
-    }
-    if methods.is_empty() && args.exec.is_empty() {
-        bail!("--methods: give at least one method (or an --exec integrator)");
-    }
-    if let Some(path) = &args.svg {
-        rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
-    }
-    if let Some(path) = &args.svg_tolerance {
-        rsts_io::check_writable(path)
-            .with_context(|| format!("--svg-tolerance {}", path.display()))?;
-    }
-    let smallest = args
-        .tolerances
+    let mut execs: Vec<ExecMethod> = args
+        .exec
         .iter()
-        .copied()
-        .fold(f64::INFINITY, f64::min);
-    if let Some(d) = args.digits {
-        if !(10..=MAX_MP_DIGITS).contains(&d) {
-            bail!("--digits: must be between 10 and {MAX_MP_DIGITS}, got {d}");
-        }
-    }
-    let mp_digits = match args.digits {
-        Some(d) => d,
-        None => default_mp_digits(smallest),
+        .map(|command| ExecMethod {
+            command: command.clone(),
+            timeout: args.timeout.exec_timeout,
+        })
+        .collect();
+    let mut methods: Vec<BenchMethod> = given.iter().map(|m| BenchMethod::BuiltIn(*m)).collect();
+    methods.extend(execs.iter_mut().map(|e| BenchMethod::Outside(e)));
+    let request = BenchRequest {
+        case,
+        methods,
+        tolerances: args.tolerances.clone(),
+        repeats: args.repeats,
+        digits: args.digits,
+        events: specs,
     };
-    let uses_mp = methods.contains(&MethodName::TaylorMp);
-
-    // Which runs to do; unreachable tolerances are noted and skipped.
-    let mut jobs = Vec::new();
-    for &method in &methods {
-        for &tol in &args.tolerances {
-            // The method's round-off, asked of a config at a tolerance it accepts (it refuses
-            // one below its round-off, which bench skips instead).
-            let mut probe = MethodConfig::new(method, Tolerances::new(1.0, 1.0)?, None)?;
-            if method == MethodName::TaylorMp {
-                probe = probe.with_digits(mp_digits).context("--digits")?;
-            }
-            let unit = probe.min_tolerance();
-            if tol < unit {
-                eprintln!(
-                    "note: skipping {} at tolerance {tol:e}: below its unit round-off {unit:.2e}",
-                    label_of(method, mp_digits)
-                );
-                continue;
-            }
-            let mut config = MethodConfig::new(method, Tolerances::new(tol, tol)?, None)?;
-            if method == MethodName::TaylorMp {
-                config = config.with_digits(mp_digits).context("--digits")?;
-            }
-            jobs.push(config);
-        }
-    }
-    // External integrators: one run per command and tolerance, requests at `mp_digits` digits.
-    let mut externals = Vec::new();
-    for command in &args.exec {
-        for &tol in &args.tolerances {
-            externals.push(exec_integrator(
-                command,
-                Tolerances::new(tol, tol)?,
-                Some(mp_digits),
-                args.timeout.exec_timeout,
-            )?);
-        }
-    }
-    if jobs.is_empty() && externals.is_empty() {
-        bail!(
-            "--tolerances: no method can reach any of the tolerances given (all below round-off)"
-        );
-    }
-    // Every job is checked (the point, the step budget) before any runs, the whole bench too.
-    let mut total_steps = 0.0;
-    for config in &jobs {
-        preflight(&case, config).map_err(case_error)?;
-        total_steps += estimate_steps(&case, config)? * args.repeats as f64;
-    }
-    if total_steps > MAX_TOTAL_STEPS {
-        bail!(
-            "--repeats/--tolerances/--t-end: the benchmark needs at least about {} steps in all ({} runs of {} repeats), more than the limit of {}; ask for fewer",
-            rsts_dynamics::short(total_steps),
-            jobs.len(),
-            args.repeats,
-            rsts_dynamics::short(MAX_TOTAL_STEPS)
-        );
-    }
-    if let Some(path) = &args.svg {
-        rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
-    }
-    if let Some(path) = &args.svg_tolerance {
-        rsts_io::check_writable(path)
-            .with_context(|| format!("--svg-tolerance {}", path.display()))?;
-    }
-
-    let bar = ProgressBar::with_draw_target(
-        Some((jobs.len() + externals.len()) as u64),
-        ProgressDrawTarget::hidden(),
-    );
+    let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden());
     bar.set_style(
         ProgressStyle::with_template("{spinner} bench [{bar:30}] {pos}/{len} {msg} {elapsed}")
             .expect("valid template")
             .progress_chars("=> "),
     );
-    let started = Instant::now();
-    let mut shown = false;
-    let mut references: BTreeMap<u32, Reference> = BTreeMap::new();
-    let mut rows: Vec<Labelled> = Vec::new();
-    let mut reference_at = |bits: u32| -> anyhow::Result<Reference> {
-        Ok(match references.entry(bits) {
-            Entry::Occupied(e) => e.get().clone(),
-            Entry::Vacant(e) => e
-                .insert(Reference::new(&case, bits).map_err(|e| anyhow!("{e}"))?)
-                .clone(),
-        })
+    let mut progress = Progress {
+        bar,
+        started: Instant::now(),
+        shown: false,
     };
-    let mut tick = |bar: &ProgressBar| {
-        if !shown && started.elapsed() > Duration::from_secs(1) && std::io::stderr().is_terminal() {
-            bar.set_draw_target(ProgressDrawTarget::stderr());
-            shown = true;
-        }
-        bar.inc(1);
-    };
-    for config in &jobs {
-        let label = label_of(config.method, mp_digits);
-        bar.set_message(format!("{label} at {:e}", config.tolerances.rtol));
-        let reference = reference_at(reference_bits(config))?;
-        let mut row = measure_against(&reference, config, args.repeats)
-            .map_err(|e| anyhow!("{label} at tolerance {:e}: {e}", config.tolerances.rtol))?;
-        if !specs.is_empty() {
-            let mut once = *config;
-            let (times, states) = run_once(&reference, &mut once).map_err(|e| anyhow!("{e}"))?;
-            let ev = events_of_run(&case, &specs, None, &times, &states).map_err(case_error)?;
-            row.events = Some(ev.counts());
-        }
-        rows.push(Labelled {
-            row,
-            label,
-            external: false,
-        });
-        tick(&bar);
-    }
-    for exec in &mut externals {
-        exec.events = specs
-            .iter()
-            .map(|s| {
-                (
-                    s.name.as_str().to_string(),
-                    s.direction.as_str().to_string(),
-                )
-            })
-            .collect();
-        let tol = exec.tolerances.rtol;
-        bar.set_message(format!("{} at {tol:e}", exec.name()));
-        let reference = reference_at(reference_bits_for(exec.working_bits()))?;
-        let mut row = measure_integrator(&reference, exec, args.repeats)
-            .map_err(|e| anyhow!("--exec at tolerance {tol:e}: {e}"))?;
-        if !specs.is_empty() {
-            let answered = exec.answered_events.clone();
-            let (times, states) = match answered {
-                Some(_) => (Vec::new(), Vec::new()),
-                None => run_once(&reference, exec).map_err(|e| anyhow!("{e}"))?,
+    let report = match args.ensemble {
+        Some(n) => {
+            let plan = EnsemblePlan {
+                n,
+                seed: args.seed,
+                cameras: args.cameras.clone(),
             };
-            let t_end = [case.t_end];
-            let times = if times.is_empty() {
-                t_end.to_vec()
-            } else {
-                times
-            };
-            let ev = events_of_run(&case, &specs, answered.as_deref(), &times, &states)
-                .map_err(case_error)?;
-            row.events = Some(ev.counts());
+            bench_ensemble(request, &plan, &mut progress)
         }
-        rows.push(Labelled {
-            label: row.method.clone(),
-            row,
-            external: true,
-        });
-        tick(&bar);
+        None => bench(request, &mut progress),
     }
-    bar.finish_and_clear();
+    .map_err(case_error)?;
+    progress.bar.finish_and_clear();
 
-    for l in &rows {
-        let r = &l.row;
-        if !(r.max_error.is_finite() && r.integration_seconds.is_finite()) {
-            bail!(
-                "{} at tolerance {}: the maximum error is not finite (the integrated motion left f64's range)",
-                l.label,
-                rsts_dynamics::short(r.tolerance)
-            );
-        }
-    }
-    let plain: Vec<BenchRow> = rows.iter().map(|l| l.row.clone()).collect();
-    let fits = fit_tolerances(&plain);
-    let environment = Environment::detect();
     if let Some(path) = &args.svg {
-        let svg = plots::render(&case, args.repeats, &rows, args.cost)?;
+        let chart = diagrams::work_precision(&report, args.cost.into());
+        let svg = rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg: {e}"))?;
         rsts_io::write_atomic(path, svg.as_bytes())
             .with_context(|| format!("--svg {}", path.display()))?;
         eprintln!("work-precision diagram: {}", path.display());
     }
     if let Some(path) = &args.svg_tolerance {
-        let svg = plots::render_tolerance(&case, &rows, &fits)?;
+        let chart = diagrams::tolerance_proportionality(&report);
+        let svg = rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg-tolerance: {e}"))?;
         rsts_io::write_atomic(path, svg.as_bytes())
             .with_context(|| format!("--svg-tolerance {}", path.display()))?;
         eprintln!("tolerance-proportionality diagram: {}", path.display());
     }
     match args.format {
-        Format::Json => output::write_json(
-            out,
-            &Document {
-                case: &case,
-                repeats: args.repeats,
-                taylor_mp_digits: uses_mp.then_some(mp_digits),
-                rows: &plain,
-                fits: &fits,
-                environment: &environment,
-            },
-        )?,
-        Format::Csv => output::write_records_csv(out, &plain)?,
+        Format::Json => output::write_json(out, &report)?,
+        Format::Csv => output::write_records_csv(out, &report.rows)?,
+        Format::Table if report.ensemble.is_some() => bands::write_table(out, &report)?,
         Format::Table => {
+            let case = &report.case;
             writeln!(
                 out,
                 "a = {}, b = {}, m = {}, h = {}, torus {}, T = {}, {} samples; time: median of {} runs",
-                case.a, case.b, case.m, case.h, case.torus, case.t_end, case.samples, args.repeats
+                case.a, case.b, case.m, case.h, case.torus, case.t_end, case.samples, report.repeats
             )?;
-            writeln!(out, "{}", environment.describe())?;
-            output::write_table(out, &table(&rows))?;
-            for f in &fits {
-                let label = rows
-                    .iter()
-                    .find(|l| l.row.method == f.method)
-                    .map_or(f.method.as_str(), |l| l.label.as_str());
-                writeln!(out, "fit {label}: {}", f.describe())?;
-            }
+            writeln!(out, "{}", report.environment.describe())?;
+            output::write_table(out, &table(&report))?;
+            write_fits(out, &report, "")?;
         }
     }
     if let Some(limit) = args.max_event_error {
-        for l in &rows {
-            if let Some(why) = l.row.events.and_then(|ev| ev.failure(limit)) {
+        for (row, l) in report.rows.iter().zip(&report.labels) {
+            if let Some(why) = row.events.and_then(|ev| ev.failure(limit)) {
                 out.flush()?;
                 return Err(crate::commands::validate::Failed(format!(
                     "{} at tolerance {:e}: {why}",
-                    l.label, l.row.tolerance
+                    l.label, row.tolerance
                 ))
                 .into());
             }
@@ -488,52 +299,18 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// False when a built-in method would have to locate s1 or s2.
-fn methods_only_state_events(args: &Args, specs: &[rsts_closed_form::events::EventSpec]) -> bool {
-    let builtins = args.methods.as_ref().is_some_and(|m| !m.is_empty()) || args.exec.is_empty();
-    !builtins || specs.iter().all(|s| s.name.index() < 12)
-}
-
-/// The optimistic step estimate of one run of `config` on `case` (its initial state from the
-/// closed form in f64).
-fn estimate_steps(case: &Case, config: &MethodConfig) -> anyhow::Result<f64> {
-    use rsts_dynamics::integrators::{OutputGrid, Problem};
-    let motion = rsts_closed_form::ExplicitMotion::<f64>::new(
-        case.a,
-        case.b,
-        case.m,
-        case.h,
-        rsts_closed_form::TorusChoice {
-            torus: case.torus,
-            phase1: case.phase1,
-            phase2: case.phase2,
-        },
-    )
-    .map_err(case_error)?;
-    let s = motion.at(&0.0);
-    let problem = Problem {
-        fields: rsts_dynamics::Fields::new(case.a, case.b)?,
-        initial: rsts_dynamics::State {
-            omega: [s.omega[0], s.omega[1], s.omega[2]],
-            alpha: [s.alpha[0], s.alpha[1], s.alpha[2]],
-            beta: [s.beta[0], s.beta[1], s.beta[2]],
-        },
-    };
-    let grid = OutputGrid::new(case.t_end, case.samples)?;
-    Ok(config.estimate_steps(&problem, &grid))
-}
-
-/// taylor-mp carries its digits in tables and legends.
-fn label_of(method: MethodName, mp_digits: u32) -> String {
-    match method {
-        MethodName::TaylorMp => format!("taylor-mp-{mp_digits}d"),
-        m => m.as_str().to_string(),
+/// A line `fit METHOD{qualifier}: …` per tolerance fit.
+fn write_fits(out: &mut dyn Write, report: &BenchReport, qualifier: &str) -> anyhow::Result<()> {
+    for f in &report.fits {
+        let label = report.label_of_method(&f.method);
+        writeln!(out, "fit {label}{qualifier}: {}", f.describe())?;
     }
+    Ok(())
 }
 
 /// The rows as a table, rounded for reading (CSV and JSON carry the full precision).
-fn table(rows: &[Labelled]) -> Tabular {
-    let with_events = rows.iter().any(|l| l.row.events.is_some());
+fn table(report: &BenchReport) -> Tabular {
+    let with_events = report.rows.iter().any(|r| r.events.is_some());
     let mut header = vec![
         "method",
         "tolerance",
@@ -548,8 +325,7 @@ fn table(rows: &[Labelled]) -> Tabular {
         header.extend(["events missed", "max event error"]);
     }
     let mut t = Tabular::new(header);
-    for l in rows {
-        let r = &l.row;
+    for (r, l) in report.rows.iter().zip(&report.labels) {
         let mut row = vec![
             Cell::Text(l.label.clone()),
             Cell::Text(format!("{:e}", r.tolerance)),
@@ -576,16 +352,4 @@ fn table(rows: &[Labelled]) -> Tabular {
         t.push(row);
     }
     t
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn default_digits_cover_the_smallest_tolerance() {
-        assert_eq!(default_mp_digits(1e-70), 80);
-        assert_eq!(default_mp_digits(1e-8), 18);
-        assert_eq!(default_mp_digits(0.5), 11);
-    }
 }

@@ -9,8 +9,9 @@ use anyhow::{anyhow, bail, Context};
 use clap::Args as ClapArgs;
 use serde::Serialize;
 
+use rsts_external::{Survey, TrajectoryReader};
 use rsts_harness::events::{exact_event_times, match_events, parse_detected, EventMatchReport};
-use rsts_harness::{CheckReport, CheckRequest, GivenMotion};
+use rsts_harness::{CheckReport, CheckRequest, CheckStream, GivenMotion};
 
 use crate::args::{case_error, finite_f64, FieldArgs};
 use crate::commands::compare::{
@@ -111,34 +112,39 @@ pub enum InputFormat {
     Npy,
 }
 
-/// The trajectory of FILE, or of standard input for `-`.
-fn read_input(args: &Args) -> anyhow::Result<rsts_external::RawTrajectory> {
+/// The trajectory of FILE (read through once first: its survey), or of standard input for `-`
+/// (surveyed from its first chunk), and its first chunk.
+fn open_input(
+    args: &Args,
+) -> anyhow::Result<(TrajectoryReader, Survey, rsts_external::RawTrajectory)> {
     use rsts_external::FileFormat;
-    if args.file.as_os_str() != "-" {
+    let (mut reader, survey) = if args.file.as_os_str() != "-" {
         if args.input_format.is_some() {
             bail!("--input-format: only for standard input (FILE -); a file's format is its extension");
         }
-        check_file_size(&args.file)?;
-        return rsts_external::read_trajectory(&args.file).map_err(|e| anyhow!("{e}"));
-    }
-    let Some(format) = args.input_format else {
-        bail!("FILE -: give the format of standard input with --input-format csv, json or npy");
+        let (reader, survey) =
+            TrajectoryReader::open_surveyed(&args.file).map_err(|e| anyhow!("{e}"))?;
+        (reader, Some(survey))
+    } else {
+        let Some(format) = args.input_format else {
+            bail!("FILE -: give the format of standard input with --input-format csv, json or npy");
+        };
+        let format = match format {
+            InputFormat::Csv => FileFormat::Csv,
+            InputFormat::Json => FileFormat::Json,
+            InputFormat::Npy => FileFormat::Npy,
+        };
+        let input = Box::new(std::io::stdin());
+        let reader =
+            TrajectoryReader::from_reader(input, format, "<stdin>").map_err(|e| anyhow!("{e}"))?;
+        (reader, None)
     };
-    let mut bytes = Vec::new();
-    std::io::Read::read_to_end(
-        &mut std::io::Read::take(std::io::stdin().lock(), MAX_FILE_BYTES + 1),
-        &mut bytes,
-    )
-    .context("standard input: cannot read")?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        bail!("standard input: more than the {MAX_FILE_BYTES} bytes (2 GiB) a trajectory may have; check it in parts");
-    }
-    let format = match format {
-        InputFormat::Csv => FileFormat::Csv,
-        InputFormat::Json => FileFormat::Json,
-        InputFormat::Npy => FileFormat::Npy,
-    };
-    rsts_external::parse_trajectory(&bytes, format, "<stdin>").map_err(|e| anyhow!("{e}"))
+    let first = reader
+        .next_chunk()
+        .map_err(|e| anyhow!("{e}"))?
+        .context("no samples")?;
+    let survey = survey.unwrap_or_else(|| reader.survey_of_first(&first));
+    Ok((reader, survey, first))
 }
 
 #[derive(Serialize)]
@@ -149,24 +155,6 @@ struct Document<'a> {
     mcap: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     events: Option<EventMatchReport>,
-}
-
-/// Largest trajectory file read (its values are kept at their precision while they are checked).
-pub const MAX_FILE_BYTES: u64 = 2 * 1024 * 1024 * 1024;
-
-/// Refuse a file too large to read, naming it (before any memory is spent on it).
-fn check_file_size(path: &std::path::Path) -> anyhow::Result<()> {
-    if let Ok(meta) = std::fs::metadata(path) {
-        if meta.is_file() && meta.len() > MAX_FILE_BYTES {
-            bail!(
-                "{}: {} bytes, more than the {} bytes (2 GiB) a trajectory file may have; check it in parts",
-                path.display(),
-                meta.len(),
-                MAX_FILE_BYTES
-            );
-        }
-    }
-    Ok(())
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
@@ -235,28 +223,29 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             bail!("--max-event-error: must be non-negative, got {e}");
         }
     }
-    let raw = read_input(&args)?;
+    let (mut reader, survey, first) = open_input(&args)?;
+    let high = survey.is_high_precision();
     request.digits = match args.digits {
         Some(d) => d,
-        None if raw.is_high_precision() => raw.digits() as u32,
+        None if high => survey.digits as u32,
         None => 15,
     };
-    let samples = raw.to_samples(request.reference_bits());
-    let stated = raw.stats;
-    drop(raw);
-    let t_extent = samples
-        .times
-        .iter()
-        .fold(0.0, |m: f64, t| m.max(t.to_f64().abs()));
-    let start =
-        rsts_harness::Check::start(&request, &samples.times[0], &samples.states[0], t_extent)
-            .map_err(|e| {
-                if request.motion.is_some() {
-                    case_error(e)
-                } else {
-                    anyhow!("{e}")
-                }
-            })?;
+    let bits = request.reference_bits();
+    let samples = first.to_samples_at(bits, high);
+    drop(first);
+    let start = rsts_harness::Check::start(
+        &request,
+        &samples.times[0],
+        &samples.states[0],
+        survey.extent,
+    )
+    .map_err(|e| {
+        if request.motion.is_some() {
+            case_error(e)
+        } else {
+            anyhow!("{e}")
+        }
+    })?;
     let log = match &args.mcap {
         None => None,
         Some(path) => {
@@ -266,21 +255,35 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         }
     };
     let stop = stop_on_ctrl_c();
-    let mut observer = CliObserver::new(log, samples.times.len() as u64, stop);
+    let mut observer = CliObserver::new(log, survey.rows.unwrap_or(0) as u64, stop);
+    if survey.rows.is_none() {
+        // A CSV stream: its length is known at its end.
+        observer.bar.unset_length();
+    }
     let pool = args.jobs.pool()?;
-    let mut report =
-        match pool.install(|| start.run(&samples.times, &samples.states, &mut observer)) {
-            Ok(report) => report,
-            Err(e) => {
-                // A failed check discards its log: the temporary is removed, a previous file stays.
-                observer.bar.finish_and_clear();
-                drop(observer);
-                return Err(anyhow!("{e}"));
-            }
-        };
+    let mut stream = CheckStream::new(start);
+    // Chunk after chunk: the reference of a chunk in parallel, its samples recorded in order.
+    let analysed = pool.install(|| -> anyhow::Result<()> {
+        let more = stream
+            .feed(&samples.times, &samples.states, &mut observer)
+            .map_err(|e| anyhow!("{e}"))?;
+        drop(samples);
+        if more {
+            rsts_external::check_rest(&mut reader, &mut stream, bits, high, &mut observer)
+                .map_err(|e| anyhow!("{e}"))?;
+        }
+        Ok(())
+    });
+    if let Err(e) = analysed {
+        // A failed check discards its log: the temporary is removed, a previous file stays.
+        observer.bar.finish_and_clear();
+        drop(observer);
+        return Err(e);
+    }
+    let mut report = stream.finish();
     let log_stats = observer.finish()?;
     // What the run cost is known only where the file states it (JSON `stats`).
-    report.report.set_stated_stats(&stated);
+    report.report.set_stated_stats(&reader.stated_stats());
     check_finite_report(&report.report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     let case = &report.case;
@@ -361,9 +364,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     if !report.report.complete {
         out.flush()?;
+        let of = survey.rows.map_or(String::new(), |n| format!(" of {n}"));
         return Err(Interrupted(format!(
-            "interrupted: checked {} of {} samples",
-            report.report.samples_compared, report.samples_given
+            "interrupted: checked {}{of} samples",
+            report.report.samples_compared
         ))
         .into());
     }

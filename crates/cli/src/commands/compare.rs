@@ -1,17 +1,18 @@
 //! `rsts compare`: integrate from the closed-form state at t = 0 and compare with the closed form
 //! along the motion; report errors, drifts and cost; optionally log everything to MCAP.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use anyhow::{bail, Context};
 use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
+use rsts_harness::environment::Environment;
 use rsts_harness::events::{events_of_run, EventMatchReport, StateCollector};
 use rsts_harness::{
     compare_integrator, preflight, Case, CompareOptions, Integrator, Observer, Report, SampleRecord,
@@ -199,14 +200,7 @@ impl Observer for CliObserver {
             .map_err(|e| format!("writing the MCAP file: {}", rsts_io::error_text(&e)))?;
         }
         // Show the bar only for runs longer than a second, and only on a terminal.
-        if !self.shown
-            && self.started.elapsed() > Duration::from_secs(1)
-            && std::io::stderr().is_terminal()
-        {
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
-            self.shown = true;
-        }
-        self.bar.inc(1);
+        output::tick_progress(&self.bar, self.started, &mut self.shown);
         Ok(())
     }
 
@@ -239,6 +233,9 @@ struct Document<'a> {
     mcap: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     events: Option<EventMatchReport>,
+    /// Where it ran (the report carries a time): CPU, SIMD path, cores, OS, rsts version and
+    /// commit, an --exec integrator's library version.
+    environment: Environment,
 }
 
 /// Bytes an MCAP log takes per sample (measured: 2000 samples of the default case, 2.44 MB).
@@ -372,10 +369,15 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let log_stats = observer.finish()?;
     check_finite_report(&report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
+    let mut environment = Environment::detect();
+    if let Some(exec) = &external {
+        environment.record(exec);
+    }
     let doc = Document {
         report: &report,
         mcap: mcap.clone(),
         events: events.clone(),
+        environment,
     };
     match args.format {
         Format::Json => output::write_json(out, &doc)?,
@@ -391,6 +393,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             if let Some(ev) = &events {
                 writeln!(out, "events: {}", ev.summary())?;
             }
+            writeln!(out, "{:<26}{}", "environment:", doc.environment.describe())?;
         }
     }
     if let (Some(path), Some(stats)) = (&mcap, log_stats) {

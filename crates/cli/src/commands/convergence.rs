@@ -11,7 +11,7 @@ use clap::Args as ClapArgs;
 use rsts_dynamics::integrators::{MethodName, Tolerances, MAX_MP_DIGITS};
 use rsts_harness::convergence::{halvings, FixedStepIntegrator, FixedStepMethod};
 use rsts_harness::{convergence, ConvergencePlan, ConvergenceReport};
-use rsts_plots::{Chart, Scale, Series, Style};
+use rsts_plots::{Chart, Series, Style};
 
 use crate::args::{case_error, count, finite_f64, CaseArgs, MethodParser};
 use crate::external::{exec_integrator, TimeoutArgs};
@@ -263,21 +263,17 @@ fn render(report: &ConvergenceReport) -> anyhow::Result<String> {
         series.push(s);
     }
     let c = &report.case;
-    let chart = Chart {
-        title: format!(
+    let chart = Chart::log_log(
+        format!(
             "Observed order: a = {}, b = {}, m = {}, h = {}, T = {}",
             c.a, c.b, c.m, c.h, c.t_end
         ),
-        x_label: "fixed step h".into(),
-        y_label: format!(
+        "fixed step h",
+        format!(
             "max state error over {} samples (closed-form reference)",
             c.samples
         ),
-        x_scale: Scale::Log10,
-        y_scale: Scale::Log10,
         series,
-        width: 820,
-        height: 540,
-    };
+    );
     rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg: {e}"))
 }

@@ -41,6 +41,7 @@ pub use describe::{
 
 use draw::{camera_colour, draw_axes, draw_labels, draw_plot, fmt_px, xml_escape};
 use labels::{label_positions, thin_anchors, LabelPlacement};
+pub use regions::camera_at;
 use regions::{Frame, Geometry};
 
 // ---------------------------------------------------------------------------------------------

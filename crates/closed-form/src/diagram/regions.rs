@@ -9,7 +9,7 @@ use crate::separated::segments;
 /// The camera at (m, h), if the point is admissible and off Σ: the same choice as
 /// [`ExplicitMotion::new`] (the first oscillation segment of each variable), without building
 /// the elliptic parametrisation — cheap enough for a raster.
-pub(super) fn camera_at(a: f64, b: f64, m: f64, h: f64) -> Option<Camera> {
+pub fn camera_at(a: f64, b: f64, m: f64, h: f64) -> Option<Camera> {
     let c = IntegralConstants::new(a, b, m, h).ok()?;
     let (f1, g1) = c.radicands_x();
     let (f2, g2) = c.radicands_s2();

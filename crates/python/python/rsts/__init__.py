@@ -10,6 +10,8 @@ The Python face of the ``rsts`` command-line tool, built from the same Rust crat
 - ``rsts.identify(state, a, b)``: which motion of N a state is on (``rsts identify``);
 - ``rsts.compare(integrator, case=None, ...)``: a built-in method or your Python integrator
   against the exact motion (``rsts compare``);
+- ``rsts.bench(integrators, case=None, tolerances=(1e-6, 1e-8, 1e-10), ...)``: method names and
+  Python integrators, mixed, their error against their cost at each tolerance (``rsts bench``);
 - ``rsts.check(times, states, a, b, ...)``: a trajectory you computed against the exact motion
   (``rsts check``);
 - ``rsts.convergence(methods, steps, case=None, ...)``: built-in methods at fixed steps and their
@@ -19,6 +21,6 @@ The Python face of the ``rsts`` command-line tool, built from the same Rust crat
 Reports are the CLI's ``--format json`` documents, as dicts. See docs/python.md.
 """
 
-from ._rsts import METHODS, Case, __version__, check, compare, convergence, events, identify
+from ._rsts import METHODS, Case, __version__, bench, check, compare, convergence, events, identify
 
-__all__ = ["Case", "METHODS", "check", "compare", "convergence", "events", "identify", "__version__"]
+__all__ = ["Case", "METHODS", "bench", "check", "compare", "convergence", "events", "identify", "__version__"]

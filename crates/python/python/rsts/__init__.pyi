@@ -65,6 +65,19 @@ def compare(
 ) -> Dict[str, Any]:
     """A method name or a callable against the exact motion: `rsts compare --format json`."""
 
+def bench(
+    integrators: Union[str, Integrator, Sequence[Union[str, Integrator]]],
+    case: Optional[Case] = None,
+    tolerances: Sequence[float] = (1e-6, 1e-8, 1e-10),
+    t_end: float = 100.0,
+    samples: int = 101,
+    repeats: int = 3,
+    digits: Optional[int] = None,
+) -> Dict[str, Any]:
+    """Method names and callables, mixed, at each tolerance (rtol = atol): max error, correct
+    digits, time (median of `repeats`; a callable's measured around its call), steps and
+    evaluations per row, tolerance fits: `rsts bench --format json`."""
+
 def check(
     times: ArrayLike,
     states: ArrayLike,

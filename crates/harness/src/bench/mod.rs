@@ -8,6 +8,16 @@
 //! [`reference_bits_for`] the integrator's precision (64 bits beyond it), and reused across
 //! repeats, tolerances and integrators.
 
+mod band_diagram;
+pub mod diagrams;
+mod flow;
+
+pub use flow::{
+    bench, bench_ensemble, default_mp_digits, label_of, BenchIntegrator, BenchMethod,
+    BenchObserver, BenchReport, BenchRequest, EnsemblePlan, OutsideMethod, Quiet, RowLabel,
+    MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
+};
+
 use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Tolerances};
 use rsts_dynamics::{Fields, State};
 use rug::Float;
@@ -23,6 +33,9 @@ use crate::HarnessError;
 /// One line of a work–precision table: the JSON row of `rsts bench`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BenchRow {
+    /// The motion of an ensemble the row measures (its index in `ensemble.motions`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<usize>,
     pub method: String,
     pub tolerance: f64,
     /// max over samples and the nine components (ω, α, β) of |x − x_exact|.
@@ -31,7 +44,8 @@ pub struct BenchRow {
     #[serde(flatten)]
     pub correct_digits: CorrectDigits,
     /// Median over the repeats of the integrator's own time (an external integrator's
-    /// `integration_seconds` when it reports one, else its wall time).
+    /// `integration_seconds` when it reports one, else its wall time; an integrator that
+    /// reports none is timed around its call).
     pub integration_seconds: f64,
     /// Smallest, median and largest of that time over the repeats.
     #[serde(default)]
@@ -222,7 +236,7 @@ pub fn measure_integrator(
 }
 
 /// Run `run` `repeats` times: error, digits (for `tolerances`), steps and evaluations of the
-/// first run, median times.
+/// first run, median times (the integrator's own, else measured around `run`).
 fn summarize(
     reference: &Reference,
     repeats: usize,
@@ -233,8 +247,14 @@ fn summarize(
     let mut walls = Vec::with_capacity(repeats);
     let mut first = None;
     for _ in 0..repeats {
+        let started = std::time::Instant::now();
         let traj = run()?;
-        seconds.push(traj.stats.integration_seconds);
+        let around = started.elapsed().as_secs_f64();
+        // An integrator that does not time itself is timed around its call.
+        seconds.push(match traj.stats.integration_seconds {
+            t if t > 0.0 => t,
+            _ => around,
+        });
         walls.extend(traj.wall_seconds);
         if first.is_none() {
             first = Some(traj);
@@ -242,6 +262,7 @@ fn summarize(
     }
     let traj = first.ok_or_else(|| HarnessError::Case("repeats must be at least 1".into()))?;
     Ok(BenchRow {
+        motion: None,
         method: String::new(),
         tolerance: f64::NAN,
         max_error: max_state_error(&reference.states, &traj.states)?,
@@ -420,6 +441,25 @@ mod tests {
             "stats of the first run"
         );
         assert!((row.max_error - 1e-30).abs() < 1e-40, "{:e}", row.max_error);
+    }
+
+    /// An integrator that reports no time of its own is timed around its call.
+    #[test]
+    fn an_integrator_without_its_own_time_is_timed_around_its_call() {
+        let c = case(1.0, 3);
+        let reference = Reference::new(&c, 200).unwrap();
+        let row = summarize(&reference, 3, None, || {
+            std::thread::sleep(std::time::Duration::from_millis(3));
+            Ok(Trajectory {
+                times: reference.times().to_vec(),
+                states: reference.states().to_vec(),
+                stats: Stats::default(),
+                wall_seconds: None,
+            })
+        })
+        .unwrap();
+        assert!(row.time_min >= 0.003, "{:e}", row.time_min);
+        assert!(row.integration_seconds >= row.time_min);
     }
 
     /// Extended precision reaches what f64 cannot.

@@ -1,12 +1,37 @@
-//! The diagrams of `rsts bench`: work–precision (error against cost) and tolerance
-//! proportionality (error against tolerance, with the fitted C·tol^p).
+//! The diagrams of a benchmark: work–precision (error against cost) and tolerance
+//! proportionality (error against tolerance, with the fitted C·tol^p), as charts for
+//! [`rsts_plots::render_svg`]: which rows make a series, their order, labels and colours.
 
-use anyhow::anyhow;
-use rsts_harness::proportionality::ToleranceFit;
-use rsts_harness::Case;
-use rsts_plots::{Chart, Scale, Series, Style};
+use rsts_plots::{Chart, Series, Style};
 
-use super::{Cost, Labelled};
+use super::{BenchReport, BenchRow};
+
+/// The cost a work–precision diagram draws against the error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cost {
+    Seconds,
+    RhsEvals,
+    Steps,
+}
+
+impl Cost {
+    /// The cost of a row.
+    pub fn of(&self, row: &BenchRow) -> f64 {
+        match self {
+            Cost::Seconds => row.integration_seconds,
+            Cost::RhsEvals => row.rhs_evals as f64,
+            Cost::Steps => row.steps as f64,
+        }
+    }
+
+    pub(super) fn label(&self, repeats: usize) -> String {
+        match self {
+            Cost::Seconds => format!("integration seconds (median of {repeats})"),
+            Cost::RhsEvals => "right-hand-side evaluations".into(),
+            Cost::Steps => "accepted steps".into(),
+        }
+    }
+}
 
 /// Colour of a series: a peer's method takes the colour of our method of the same precision.
 fn counterpart(label: &str) -> Option<&'static str> {
@@ -24,7 +49,7 @@ fn counterpart(label: &str) -> Option<&'static str> {
 
 /// Our series take the palette in order; a peer's series takes the colour of our method of the
 /// same precision ([`counterpart`]) unless another peer series has it, else the next free one.
-fn assign_colours(series: &mut [Series]) {
+pub(super) fn assign_colours(series: &mut [Series]) {
     let palette = rsts_plots::PALETTE;
     let mut used: Vec<usize> = Vec::new();
     let mut colour_of: Vec<Option<usize>> = vec![None; series.len()];
@@ -60,18 +85,19 @@ fn assign_colours(series: &mut [Series]) {
     }
 }
 
-/// The work–precision diagram: one line per method, max error against seconds (log–log).
-pub(super) fn render(
-    case: &Case,
-    repeats: usize,
-    rows: &[Labelled],
-    cost: Cost,
-) -> anyhow::Result<String> {
+/// The work–precision diagram: one line per method, max error against `cost` (log–log); for
+/// an ensemble, the median and the 5–95 % band over the motions
+/// ([`super::band_diagram::ensemble_work_precision`]).
+pub fn work_precision(report: &BenchReport, cost: Cost) -> Chart {
+    if report.ensemble.is_some() {
+        return super::band_diagram::ensemble_work_precision(report, cost);
+    }
+    let (case, repeats) = (&report.case, report.repeats);
     let mut series: Vec<Series> = Vec::new();
     // (tolerance, error, cost) per series, drawn from loose to tight tolerance; a row without
     // the cost (an external integrator that reports no evaluations) is not drawn.
     let mut points: Vec<Vec<(f64, f64, f64)>> = Vec::new();
-    for l in rows {
+    for (row, l) in report.rows.iter().zip(&report.labels) {
         let k = match series.iter().position(|s| s.label == l.label) {
             Some(k) => k,
             None => {
@@ -82,9 +108,9 @@ pub(super) fn render(
                 series.len() - 1
             }
         };
-        let c = cost.of(&l.row);
+        let c = cost.of(row);
         if c > 0.0 {
-            points[k].push((l.row.tolerance, l.row.max_error, c));
+            points[k].push((row.tolerance, row.max_error, c));
         }
     }
     for (s, mut p) in series.iter_mut().zip(points) {
@@ -95,36 +121,28 @@ pub(super) fn render(
     }
     series.retain(|s| !s.points.is_empty());
     assign_colours(&mut series);
-    let chart = Chart {
-        title: format!(
+    Chart::log_log(
+        format!(
             "Work–precision: a = {}, b = {}, m = {}, h = {}, T = {}",
             case.a, case.b, case.m, case.h, case.t_end
         ),
-        x_label: format!(
+        format!(
             "max state error over {} samples (closed-form reference)",
             case.samples
         ),
-        y_label: format!("{}; points: tolerance", cost.label(repeats)),
-        x_scale: Scale::Log10,
-        y_scale: Scale::Log10,
+        format!("{}; points: tolerance", cost.label(repeats)),
         series,
-        width: 820,
-        height: 540,
-    };
-    rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg: {e}"))
+    )
 }
 
 /// The tolerance-proportionality diagram: each method's max error against its tolerance
 /// (markers, log–log), its fitted C·tol^p (a line of the same colour) and error = tol (grey).
-pub(super) fn render_tolerance(
-    case: &Case,
-    rows: &[Labelled],
-    fits: &[ToleranceFit],
-) -> anyhow::Result<String> {
+pub fn tolerance_proportionality(report: &BenchReport) -> Chart {
+    let (case, fits) = (&report.case, &report.fits);
     let mut series: Vec<Series> = Vec::new();
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-    for l in rows {
-        let (tol, err) = (l.row.tolerance, l.row.max_error);
+    for (row, l) in report.rows.iter().zip(&report.labels) {
+        let (tol, err) = (row.tolerance, row.max_error);
         if !(tol > 0.0 && err > 0.0 && tol.is_finite() && err.is_finite()) {
             continue;
         }
@@ -141,10 +159,12 @@ pub(super) fn render_tolerance(
     assign_colours(&mut series);
     let mut lines = Vec::new();
     for s in &series {
-        let method = rows
+        let method = report
+            .rows
             .iter()
-            .find(|l| l.label == s.label)
-            .map(|l| l.row.method.as_str());
+            .zip(&report.labels)
+            .find(|(_, l)| l.label == s.label)
+            .map(|(r, _)| r.method.as_str());
         if let Some(f) = fits.iter().find(|f| Some(f.method.as_str()) == method) {
             let (a, b) = s.points.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
                 (a.min(p.0), b.max(p.0))
@@ -168,23 +188,18 @@ pub(super) fn render_tolerance(
         diagonal.color = Some("#999999".into());
         series.push(diagonal);
     }
-    let chart = Chart {
-        title: format!(
+    Chart::log_log(
+        format!(
             "Tolerance proportionality: a = {}, b = {}, m = {}, h = {}, T = {}",
             case.a, case.b, case.m, case.h, case.t_end
         ),
-        x_label: "tolerance (rtol = atol)".into(),
-        y_label: format!(
+        "tolerance (rtol = atol)",
+        format!(
             "max state error over {} samples; lines: fitted C·tol^p",
             case.samples
         ),
-        x_scale: Scale::Log10,
-        y_scale: Scale::Log10,
         series,
-        width: 820,
-        height: 540,
-    };
-    rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg-tolerance: {e}"))
+    )
 }
 
 #[cfg(test)]

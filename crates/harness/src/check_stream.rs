@@ -1,0 +1,109 @@
+//! A check fed in chunks (`rsts check` streams its input): the samples of each chunk are
+//! analysed in parallel and folded into the running summaries of [`crate::Analysis`], then
+//! dropped, so memory does not grow with the number of samples. What the summaries keep is
+//! bounded whatever the length (docs/output.md, "What a check keeps"): maxima and last values,
+//! the correct-digit extremes, the drifts' running maxima at log-spaced times, the geometry's
+//! series decimated to at most 2¹⁶ points, the first sample's error and the time span.
+
+use rug::Float;
+
+use rsts_dynamics::State;
+
+use crate::analysis::Observer;
+use crate::check::{Check, CheckReport, CheckedCase};
+use crate::HarnessError;
+
+/// A check under way, fed its samples chunk after chunk ([`CheckStream::feed`]).
+pub struct CheckStream {
+    check: Check,
+    start_error: Option<f64>,
+    span: (f64, f64),
+    given: usize,
+    stopped: bool,
+}
+
+impl CheckStream {
+    /// The samples of `check` come next.
+    pub fn new(check: Check) -> Self {
+        Self {
+            check,
+            start_error: None,
+            span: (f64::NAN, f64::NAN),
+            given: 0,
+            stopped: false,
+        }
+    }
+
+    /// The motion the trajectory is checked against.
+    pub fn case(&self) -> &CheckedCase {
+        &self.check.case
+    }
+
+    /// Samples fed so far.
+    pub fn samples_given(&self) -> usize {
+        self.given
+    }
+
+    /// Analyse the next samples (time order, after those fed before), evaluated in parallel
+    /// on the current rayon pool and recorded in order. False when the observer asked to stop:
+    /// nothing more is analysed (the report says `complete: false`).
+    pub fn feed(
+        &mut self,
+        times: &[Float],
+        states: &[State<Float>],
+        observer: &mut dyn Observer,
+    ) -> Result<bool, HarnessError> {
+        if times.len() != states.len() {
+            return Err(HarnessError::Case(format!(
+                "{} times and {} states",
+                times.len(),
+                states.len()
+            )));
+        }
+        let (Some(first), Some(last)) = (times.first(), times.last()) else {
+            return Ok(!self.stopped);
+        };
+        let first_feed = self.given == 0;
+        if first_feed {
+            self.span.0 = first.to_f64();
+        }
+        self.span.1 = last.to_f64();
+        self.given += times.len();
+        if self.stopped {
+            return Ok(false);
+        }
+        let reach = times.iter().fold(0.0, |m: f64, t| m.max(t.to_f64().abs()));
+        let Check {
+            analysis,
+            reference,
+            ..
+        } = &mut self.check;
+        analysis.reach(reference, reach)?;
+        let errors = analysis.sample_all(times, states, observer)?;
+        if first_feed {
+            self.start_error = errors.map(|e| e.state_error);
+        }
+        self.stopped = !analysis.report().complete;
+        Ok(!self.stopped)
+    }
+
+    /// The report of the samples fed.
+    pub fn finish(self) -> CheckReport {
+        let Check {
+            file,
+            case,
+            distance,
+            analysis,
+            ..
+        } = self.check;
+        CheckReport {
+            file,
+            case,
+            start_state_error: self.start_error.unwrap_or(f64::NAN),
+            start_distance_from_n: distance,
+            report: analysis.finish(),
+            span: self.span,
+            samples_given: self.given,
+        }
+    }
+}
