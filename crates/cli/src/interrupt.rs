@@ -1,4 +1,6 @@
-//! Ctrl-C, installed before anything else (so before any output file exists).
+//! Ctrl-C, installed before anything else (so before any output file exists). SIGTERM and
+//! SIGHUP (a `kill`, a closed terminal, a batch system's time limit) are handled the same way:
+//! ctrlc's `termination` feature routes all three to the one handler.
 //!
 //! A command that can stop early and still finish its outputs (`compare`: it stops after the
 //! current piece and writes a complete file of what it did) calls [`stop_gracefully`]; its first

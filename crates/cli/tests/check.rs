@@ -9,7 +9,7 @@ use std::process::Output;
 use serde_json::Value;
 
 mod common;
-use common::{exit_2, rsts, stderr, stdout, tmp};
+use common::{exit_2, fails, rsts, stderr, stdout, tmp};
 
 fn ok(args: &[&str]) -> Output {
     let out = rsts(args);
@@ -166,7 +166,52 @@ fn check_reports_the_errors_compare_reports_for_the_same_run() {
         assert_eq!(check["case"]["identified"], false);
         assert!(check["start_state_error"].as_f64().unwrap() < 1e-15);
         assert!(check["rtol"].is_null());
+        // The cost is what the file states: integrate's JSON carries the run's `stats` (the
+        // steps and evaluations of compare's same run); a CSV or npy states none (null, not 0).
+        for key in [
+            "steps",
+            "rejected_steps",
+            "rhs_evals",
+            "integration_seconds",
+        ] {
+            if file.ends_with(".json") {
+                assert!(
+                    check[key].as_f64().is_some(),
+                    "{file} {key}: {}",
+                    check[key]
+                );
+            } else {
+                assert!(check[key].is_null(), "{file} {key}: {}", check[key]);
+            }
+        }
+        if file.ends_with(".json") {
+            assert_eq!(check["steps"], compare["steps"], "{file}");
+            assert_eq!(check["rhs_evals"], compare["rhs_evals"], "{file}");
+        }
     }
+    // The table says n/a where the JSON says null.
+    let table = stdout(&ok(&["check", files[0].as_str()]));
+    for line in [
+        "steps (rejected):         n/a (n/a)",
+        "rhs evaluations:          n/a",
+        "integration time:         n/a",
+    ] {
+        assert!(table.lines().any(|l| l == line), "{line:?} in\n{table}");
+    }
+    let table = stdout(&ok(&["check", files[1].as_str()]));
+    let steps = compare["steps"].as_u64().unwrap();
+    assert!(
+        table.contains(&format!("steps (rejected):         {steps} (0)")),
+        "{table}"
+    );
+    // A stats block that is not one is refused, naming the key.
+    let bad = json.replacen("\"rhs_evals\": ", "\"rhs_evals\": -", 1);
+    assert_ne!(bad, json);
+    let err = fails(&["check", &write("bad_stats.json", bad.as_bytes())]);
+    assert!(
+        err.contains("stats.rhs_evals must be a non-negative number"),
+        "{err}"
+    );
     // The MCAP log of check holds the trajectory: checking the log gives the same errors again.
     let mcap = tmp("check.mcap");
     let mut args = vec!["check", files[0].as_str(), "--mcap", mcap.to_str().unwrap()];

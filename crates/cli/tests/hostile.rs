@@ -536,6 +536,90 @@ fn i8_duplicate_columns_are_refused_and_a_bom_is_accepted() {
     );
 }
 
+/// A logged state: t, ω (of any length), α, β.
+type Logged = (f64, Vec<f64>, [f64; 3], [f64; 3]);
+
+/// An MCAP log whose `/integrated/state` holds one message per state (t, ω, α, β as JSON).
+fn mcap_of_states(path: &Path, states: &[Logged]) {
+    let file = std::io::BufWriter::new(fs::File::create(path).unwrap());
+    let mut w = mcap::Writer::new(file).unwrap();
+    let schema = w.add_schema("rsts.BodyState", "jsonschema", b"{}").unwrap();
+    let none = std::collections::BTreeMap::new();
+    let channel = w
+        .add_channel(schema, "/integrated/state", "json", &none)
+        .unwrap();
+    for (k, (t, omega, alpha, beta)) in states.iter().enumerate() {
+        let data = serde_json::json!({"t": t, "omega": omega, "alpha": alpha, "beta": beta});
+        let ns = (t * 1e9) as u64;
+        let header = mcap::records::MessageHeader {
+            channel_id: channel,
+            sequence: k as u32,
+            log_time: ns,
+            publish_time: ns,
+        };
+        w.write_to_known_channel(&header, data.to_string().as_bytes())
+            .unwrap();
+    }
+    w.finish().unwrap();
+}
+
+/// An MCAP `omega` of four elements is refused, as CSV and JSON refuse it; the same log with
+/// three is checked.
+#[test]
+fn i8_an_mcap_omega_of_four_elements_is_refused() {
+    let d = dir("mcap-omega4");
+    let text = fs::read_to_string(reference_csv(&d)).unwrap();
+    let row: Vec<f64> = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let state = |omega: Vec<f64>| {
+        vec![(
+            row[0],
+            omega,
+            [row[4], row[5], row[6]],
+            [row[7], row[8], row[9]],
+        )]
+    };
+    let three = d.join("three.mcap");
+    mcap_of_states(&three, &state(row[1..4].to_vec()));
+    let out = rsts(&["check", s(&three)]);
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    let four = d.join("four.mcap");
+    mcap_of_states(&four, &state(vec![row[1], row[2], row[3], 0.0]));
+    let out = rsts(&["check", s(&four)]);
+    let e = stderr(&out);
+    assert_eq!(code(&out), Some(2), "{e}");
+    assert!(
+        e.contains("message 1 of /integrated/state: \"omega\" must be an array of 3 numbers"),
+        "{e}"
+    );
+}
+
+/// A suite's errors say "suite" once: the option, the file, the case, the reason (they read
+/// "--suite: suite: s.toml: suite: case 'tiny': suite: invalid integrator settings: …").
+#[test]
+fn suite_errors_do_not_repeat_their_prefixes() {
+    let d = dir("prefixes");
+    for (extra, reason) in [
+        ("methods = [\"nope\"]\n", "unknown method 'nope'"),
+        ("tori = 5\n", "torus 5 does not exist"),
+        ("t_end = -1\n", "t_end must be non-negative"),
+    ] {
+        let suite = d.join("s.toml");
+        fs::write(&suite, TINY_SUITE.replace("t_end = 1\n", "") + extra).unwrap();
+        let out = rsts(&["validate", "--suite", s(&suite), "--list"]);
+        let e = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{e}");
+        let head = format!("error: --suite: {}: case 'tiny': ", suite.display());
+        assert!(e.starts_with(&head) && e.contains(reason), "{e}");
+        assert!(!e[head.len()..].contains("suite"), "{e}");
+    }
+}
+
 #[test]
 fn i8_a_suite_with_no_methods_is_refused() {
     let d = dir("no-methods");
@@ -691,4 +775,67 @@ fn user_the_error_plot_draws_the_distance_from_n() {
     let svg = fs::read_to_string(rep.join("plots/error-camera-v-t2.svg")).unwrap();
     assert!(svg.contains("dopri5@1e-8 distance from N"), "legend");
     assert!(!svg.contains("off N"), "off_N is not drawn as the distance");
+}
+
+/// SIGTERM and SIGHUP are handled as Ctrl-C: a run killed while writing removes its temporary,
+/// exits 130 and leaves the previous file as it was (before, the temporary stayed behind).
+#[test]
+fn sigterm_and_sighup_remove_the_temporary() {
+    for (name, signal) in [("term", libc::SIGTERM), ("hup", libc::SIGHUP)] {
+        let d = dir(&format!("signal-{name}"));
+        let target = d.join("big.csv");
+        fs::write(&target, "previous").unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_rsts"))
+            .args([
+                "reference",
+                "--t-end",
+                "1e4",
+                "--samples",
+                "2000000",
+                "-o",
+                s(&target),
+            ])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let temporary = |d: &Path| entries(d).into_iter().any(|e| e.contains(".tmp-"));
+        let until = Instant::now() + Duration::from_secs(60);
+        while !temporary(&d) {
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "{name}: done before its temporary was seen"
+            );
+            assert!(Instant::now() < until, "{name}: no temporary after 60 s");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        // SAFETY: plain kill(2) on our own child.
+        unsafe {
+            libc::kill(child.id() as i32, signal);
+        }
+        let out = guarded_wait(child, 60);
+        assert_eq!(
+            code(&out),
+            Some(130),
+            "{name}: {:?} {}",
+            out.status,
+            stderr(&out)
+        );
+        assert_eq!(entries(&d), ["big.csv"], "{name}");
+        assert_eq!(fs::read_to_string(&target).unwrap(), "previous", "{name}");
+    }
+}
+
+/// Wait for `child`, killing it after `guard` seconds (then the test fails).
+fn guarded_wait(mut child: std::process::Child, guard: u64) -> Output {
+    let until = Instant::now() + Duration::from_secs(guard);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > until {
+            let _ = child.kill();
+            panic!("still running after {guard} s: killed");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
 }

@@ -15,6 +15,7 @@ use crate::scalar::{Scalar, GUARD_BITS};
 use crate::separated::{segments, SeparatedVariable};
 
 mod phase;
+pub mod symmetry;
 use phase::PhaseClock;
 pub use phase::F64_CLOCK_MAX_T;
 
@@ -312,8 +313,7 @@ impl<T: Real> ExplicitMotion<T> {
                 let n1 = if free1 { 2 } else { 1 };
                 let n2 = if free2 { 2 } else { 1 };
                 for j in 0..n1 * n2 {
-                    let sign1 = if j % n1 == 1 { -1 } else { 1 };
-                    let sign2 = if (j / n1) % n2 == 1 { -1 } else { 1 };
+                    let (sign1, sign2) = symmetry::free_signs(j, free1, free2);
                     options.push((s1.clone(), s2.clone(), sign1, sign2));
                 }
             }

@@ -511,41 +511,11 @@ fn parse_events(v: &Value) -> Result<Vec<(String, f64)>, String> {
         .collect()
 }
 
-/// `stats` of an answer: every field optional, numbers or decimal strings.
+/// `stats` of an answer: every field optional, numbers or decimal strings (read as a JSON
+/// trajectory file's, [`crate::files::parse_stats`]).
 fn parse_stats(v: Option<&Value>) -> Result<AnswerStats, String> {
-    let Some(v) = v else {
-        return Ok((None, None, None));
-    };
-    if v.is_null() {
-        return Ok((None, None, None));
-    }
-    if !v.is_object() {
-        return Err("\"stats\" must be an object".into());
-    }
-    let num = |key: &str| -> Result<Option<f64>, String> {
-        let x = match v.get(key) {
-            None | Some(Value::Null) => return Ok(None),
-            Some(Value::Number(n)) => n.as_f64(),
-            Some(Value::String(s)) => s.trim().parse().ok(),
-            Some(_) => None,
-        };
-        match x {
-            Some(x) if x.is_finite() && x >= 0.0 => Ok(Some(x)),
-            _ => Err(format!("stats.{key} must be a non-negative number")),
-        }
-    };
-    let count = |key: &str| -> Result<Option<u64>, String> {
-        match num(key)? {
-            Some(x) if x.fract() == 0.0 => Ok(Some(x as u64)),
-            Some(_) => Err(format!("stats.{key} must be a whole number")),
-            None => Ok(None),
-        }
-    };
-    Ok((
-        count("steps")?,
-        count("rhs_evals")?,
-        num("integration_seconds")?,
-    ))
+    let s = crate::files::parse_stats(v)?;
+    Ok((s.steps, s.rhs_evals, s.integration_seconds))
 }
 
 /// The most bytes an answer of `samples` samples at `digits` digits may take: 1 MiB, plus per

@@ -6,6 +6,7 @@
 
 use std::path::Path;
 
+use rsts_harness::StatedStats;
 use serde_json::Value;
 
 use crate::samples::{check_component, check_f64, check_text, Number, RawTrajectory};
@@ -215,7 +216,8 @@ fn json_number(v: &Value) -> Result<Number, String> {
 
 /// The `samples` of `rsts integrate --format json` (or of an external integrator's answer):
 /// `{"samples": [{"t", "omega": [3], "alpha": [3], "beta": [3], ...}]}`, values as numbers or
-/// decimal strings; other keys are ignored.
+/// decimal strings, and the `stats` block when there is one ([`parse_stats`]); other keys are
+/// ignored.
 pub fn parse_json(doc: &Value) -> Result<RawTrajectory, String> {
     let samples = doc
         .get("samples")
@@ -247,7 +249,54 @@ pub fn parse_json(doc: &Value) -> Result<RawTrajectory, String> {
         }
         raw.push(t, state, place);
     }
+    raw.stats = parse_stats(doc.get("stats"))?;
     Ok(raw)
+}
+
+/// The `stats` block of a JSON trajectory as `rsts integrate --format json` writes it
+/// (`accepted_steps`, `rejected_steps`, `rhs_evals`, `integration_seconds`; `steps` as an
+/// external integrator's answer names the accepted steps): every key optional, numbers or
+/// decimal strings, non-negative, counts whole.
+pub fn parse_stats(v: Option<&Value>) -> Result<StatedStats, String> {
+    let Some(v) = v.filter(|v| !v.is_null()) else {
+        return Ok(StatedStats::default());
+    };
+    if !v.is_object() {
+        return Err("\"stats\" must be an object".into());
+    }
+    let num = |key: &str| -> Result<Option<f64>, String> {
+        let x = match v.get(key) {
+            None | Some(Value::Null) => return Ok(None),
+            Some(Value::Number(n)) => n.as_f64(),
+            Some(Value::String(s)) => s.trim().parse().ok(),
+            Some(_) => None,
+        };
+        match x {
+            Some(x) if x.is_finite() && x >= 0.0 => Ok(Some(x)),
+            _ => Err(format!("stats.{key} must be a non-negative number")),
+        }
+    };
+    let count = |key: &str| -> Result<Option<u64>, String> {
+        match num(key)? {
+            Some(x) if x.fract() == 0.0 && x < u64::MAX as f64 => Ok(Some(x as u64)),
+            Some(_) => Err(format!("stats.{key} must be a whole number")),
+            None => Ok(None),
+        }
+    };
+    let steps = match (count("accepted_steps")?, count("steps")?) {
+        (Some(a), Some(s)) if a != s => {
+            return Err(format!(
+                "stats.accepted_steps ({a}) and stats.steps ({s}) disagree"
+            ))
+        }
+        (a, s) => a.or(s),
+    };
+    Ok(StatedStats {
+        steps,
+        rejected_steps: count("rejected_steps")?,
+        rhs_evals: count("rhs_evals")?,
+        integration_seconds: num("integration_seconds")?,
+    })
 }
 
 /// An npy file (as `numpy.save` writes it): float64, shape (N, 10), columns t and the nine
@@ -442,6 +491,40 @@ mod tests {
         let e = parse_csv(&format!("{HEADER}\n0,0,0,0,1,0,0\n")).unwrap_err();
         assert!(e.starts_with("line 2: 7 fields, the header has 10"), "{e}");
         assert!(parse_csv("").unwrap_err().contains("empty"));
+    }
+
+    /// integrate's `stats` layout, the answer's `steps` for the accepted steps, absent keys
+    /// unknown; values that are not counts are refused by name.
+    #[test]
+    fn json_stats_are_read_where_stated() {
+        use serde_json::json;
+        let s = parse_stats(Some(&json!({"accepted_steps": 341, "rejected_steps": 2,
+            "rhs_evals": "2049", "integration_seconds": 1e-4})))
+        .unwrap();
+        assert_eq!(
+            (
+                s.steps,
+                s.rejected_steps,
+                s.rhs_evals,
+                s.integration_seconds
+            ),
+            (Some(341), Some(2), Some(2049), Some(1e-4))
+        );
+        let s = parse_stats(Some(&json!({"steps": 7}))).unwrap();
+        assert_eq!((s.steps, s.rhs_evals), (Some(7), None));
+        assert_eq!(parse_stats(None).unwrap(), StatedStats::default());
+        for (bad, key) in [
+            (json!({"steps": 1.5}), "stats.steps must be a whole"),
+            (
+                json!({"rhs_evals": -1}),
+                "stats.rhs_evals must be a non-negative",
+            ),
+            (json!({"steps": 1, "accepted_steps": 2}), "disagree"),
+            (json!([1]), "must be an object"),
+        ] {
+            let e = parse_stats(Some(&bad)).unwrap_err();
+            assert!(e.contains(key), "{bad}: {e}");
+        }
     }
 
     #[test]

@@ -138,6 +138,8 @@ pub struct RawTrajectory {
     pub states: Vec<[Number; 9]>,
     /// Where sample k was read ("line 5", "samples[3]", "row 4", "message 7").
     pub places: Vec<String>,
+    /// The cost the file states (a JSON file's `stats` block; nothing for other formats).
+    pub stats: rsts_harness::StatedStats,
 }
 
 /// A trajectory at a precision, with absolute times.

@@ -59,6 +59,8 @@ pub struct TrajectoryReader {
     /// The time and place of the last sample handed out.
     last: Option<(Number, String)>,
     read: usize,
+    /// The cost the file states (a JSON file's `stats`; nothing for the streamed formats).
+    stats: rsts_harness::StatedStats,
 }
 
 /// The samples of a trajectory read whole, in order.
@@ -183,6 +185,7 @@ impl TrajectoryReader {
             rows,
             last: None,
             read: 0,
+            stats: Default::default(),
         })
     }
 
@@ -206,6 +209,7 @@ impl TrajectoryReader {
             times,
             states,
             places,
+            stats,
         } = raw;
         Ok(Self {
             name: name.to_string(),
@@ -216,7 +220,13 @@ impl TrajectoryReader {
             },
             last: None,
             read: 0,
+            stats,
         })
+    }
+
+    /// The cost the file states about its run (a JSON file's `stats` block).
+    pub fn stated_stats(&self) -> rsts_harness::StatedStats {
+        self.stats
     }
 
     /// Rows in all, when known before the end (npy, inputs read whole).

@@ -76,7 +76,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )?;
         println!(
             "{}: max state error {:.3e}, drift of H {:.3e}, {} steps",
-            r.method, r.max_state_error, r.drift.h, r.steps
+            r.method,
+            r.max_state_error,
+            r.drift.h,
+            r.steps.unwrap_or_default()
         );
     }
     // bench: work against precision, beside a built-in method, on one reference.

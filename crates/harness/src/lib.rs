@@ -60,7 +60,7 @@ pub use convergence::{
 };
 pub use digits::CorrectDigits;
 pub use integrator::{check_times, Integrator, Propagated, Trajectory};
-pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot};
+pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot, StatedStats};
 pub use rsts_dynamics::integrators::MethodConfig;
 
 /// Errors of a comparison.

@@ -98,10 +98,12 @@ pub struct Report {
     #[serde(flatten)]
     pub correct_digits: CorrectDigits,
     pub drift: Drift,
-    pub steps: u64,
-    pub rejected_steps: u64,
-    pub rhs_evals: u64,
-    pub integration_seconds: f64,
+    /// What the run cost (`null` when not known: a trajectory from a file that does not state
+    /// it, a callable that cannot count its steps).
+    pub steps: Option<u64>,
+    pub rejected_steps: Option<u64>,
+    pub rhs_evals: Option<u64>,
+    pub integration_seconds: Option<f64>,
     /// Wall time measured around an external integrator (process start, request and answer
     /// included); absent for in-process integrators.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -132,11 +134,38 @@ impl Report {
 
     /// Add the cost of (a piece of) a run.
     pub(crate) fn add_stats(&mut self, s: &Stats) {
-        self.steps += s.accepted_steps;
-        self.rejected_steps += s.rejected_steps;
-        self.rhs_evals += s.rhs_evals;
-        self.integration_seconds += s.integration_seconds;
+        *self.steps.get_or_insert(0) += s.accepted_steps;
+        *self.rejected_steps.get_or_insert(0) += s.rejected_steps;
+        *self.rhs_evals.get_or_insert(0) += s.rhs_evals;
+        *self.integration_seconds.get_or_insert(0.0) += s.integration_seconds;
     }
+
+    /// The cost a trajectory states about itself (a file's `stats` block), each part only
+    /// where stated.
+    pub fn set_stated_stats(&mut self, s: &StatedStats) {
+        self.steps = s.steps;
+        self.rejected_steps = s.rejected_steps;
+        self.rhs_evals = s.rhs_evals;
+        self.integration_seconds = s.integration_seconds;
+    }
+
+    /// Forget the counts of steps and evaluations (an integrator that cannot see them, e.g. a
+    /// Python callable: its time is measured, its steps are not known).
+    pub fn forget_counts(&mut self) {
+        self.steps = None;
+        self.rejected_steps = None;
+        self.rhs_evals = None;
+    }
+}
+
+/// The cost a trajectory computed elsewhere states about itself: the `stats` block of a JSON
+/// file as `rsts integrate --format json` writes it. Each part may be absent.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct StatedStats {
+    pub steps: Option<u64>,
+    pub rejected_steps: Option<u64>,
+    pub rhs_evals: Option<u64>,
+    pub integration_seconds: Option<f64>,
 }
 
 fn f3<T: Real>(v: &Vec3<T>) -> [f64; 3] {

@@ -178,7 +178,8 @@ enum Chosen {
 /// "taylor-f64", "taylor-dd", "taylor-mp"; `digits` sets taylor-mp's) or a callable
 /// `f(x0, times, a, b, rtol, atol)` returning a float array of shape (len(times), 9): the states
 /// (omega, alpha, beta) at `times` from x0 at times[0] = 0. It is called once, in this process,
-/// with numpy arrays; its time is measured around the call (integration_seconds). An exception
+/// with numpy arrays; its time is measured around the call (integration_seconds; steps and
+/// rhs_evals are None, not seen from outside). An exception
 /// it raises propagates unchanged; an answer of the wrong shape, with NaN, or not an array
 /// raises ValueError naming what was wrong.
 ///
@@ -245,7 +246,11 @@ pub fn compare<'py>(
         let result = compare_integrator(&case, integrator, &options, &mut watch);
         Ok::<_, HarnessError>((result, watch.0.take()))
     });
-    let report: Report = finish(result, chosen_error(&mut chosen))?;
+    let mut report: Report = finish(result, chosen_error(&mut chosen))?;
+    if let Chosen::Callable(_) = chosen {
+        // Its time is measured around the call; its steps are not seen.
+        report.forget_counts();
+    }
     // A report with a non-finite figure is an error, as in the CLI.
     check_finite_report(&report).map_err(harness_error)?;
     report_dict(

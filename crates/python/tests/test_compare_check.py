@@ -56,6 +56,8 @@ def test_a_scipy_integrator_is_checked_in_process(cli_json, tmp_path):
     assert (a, b, rtol, atol) == (1.0, 0.5, 1e-10, 1e-10)
     assert report["method"] == "test_a_scipy_integrator_is_checked_in_process.<locals>.integrator"
     assert report["samples_compared"] == 201 and report["integration_seconds"] > 0
+    # Its steps are not seen from outside: unknown, not 0.
+    assert report["steps"] is None and report["rhs_evals"] is None
     assert 1e-13 < report["max_state_error"] < 1e-6, report["max_state_error"]
     # The same states, checked by the CLI from a file, give the same errors.
     states = scipy_dop853(x0, times, a, b, rtol, atol)

@@ -37,6 +37,17 @@ pub enum ValidateError {
     Run(String),
 }
 
+impl ValidateError {
+    /// The message without the `suite: ` of a suite error: what to put after a prefix that
+    /// already says where (a file, a case, an option), so no prefix is repeated.
+    pub fn detail(&self) -> String {
+        match self {
+            Self::Suite(s) => s.clone(),
+            other => other.to_string(),
+        }
+    }
+}
+
 /// Options of a validation.
 #[derive(Clone, Debug, Default)]
 pub struct Options {

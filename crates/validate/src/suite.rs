@@ -370,7 +370,7 @@ impl Suite {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "suite".into());
         Suite::parse_with(&text, &fallback, exec)
-            .map_err(|e| ValidateError::Suite(format!("{}: {e}", path.display())))
+            .map_err(|e| ValidateError::Suite(format!("{}: {}", path.display(), e.detail())))
     }
 
     /// [`Suite::parse`], with every case's methods replaced by the adapter `exec` when given
@@ -763,8 +763,8 @@ fn expand_case(
             }
             for &tol in &tolerances {
                 // Checked here so a bad method or tolerance is a suite error, not a failed run.
-                let config = method_config(method, tol, tol, digits, step)
-                    .map_err(|err| e(format!("{err}")))?;
+                let config =
+                    method_config(method, tol, tol, digits, step).map_err(|err| e(err.detail()))?;
                 let name = config.method.as_str().to_string();
                 let run_digits =
                     (config.method == MethodName::TaylorMp).then(|| config.mp_digits());

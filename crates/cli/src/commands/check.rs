@@ -41,7 +41,8 @@ Examples:
   rsts check - --input-format csv < out/traj.csv
 
 FILE by extension: .csv (header t,omega1,omega2,omega3,alpha1,alpha2,alpha3,beta1,beta2,beta3;
-other columns ignored), .json ({\"samples\": [{\"t\", \"omega\", \"alpha\", \"beta\"}]}), .npy
+other columns ignored), .json ({\"samples\": [{\"t\", \"omega\", \"alpha\", \"beta\"}]}, and the
+\"stats\" of `rsts integrate --format json`, reported as the run's cost), .npy
 (float64, shape (N, 10), or (N, 13) as `rsts reference -o x.npy` writes it), .mcap
 (/integrated/state of an rsts log). Times strictly increasing,
 any spacing. Without --m/--h the motion is identified from the first row (which must lie on N).
@@ -285,8 +286,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         drop(observer);
         return Err(e);
     }
-    let report = stream.finish();
+    let mut report = stream.finish();
     let log_stats = observer.finish()?;
+    // What the run cost is known only where the file states it (JSON `stats`).
+    report.report.set_stated_stats(&reader.stated_stats());
     check_finite_report(&report.report)?;
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     let case = &report.case;

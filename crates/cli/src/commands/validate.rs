@@ -193,7 +193,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     };
     // Inputs named by their options before anything runs (the library reads them again).
     let loaded = Suite::load_with(&suite, exec.as_ref().map(|(n, a)| (n.as_str(), a)))
-        .map_err(|e| anyhow::anyhow!("--suite: {e}"))?;
+        .map_err(|e| anyhow::anyhow!("--suite: {}", e.detail()))?;
     if let Some(b) = &args.baseline {
         Report::read(b).map_err(|e| anyhow::anyhow!("--baseline: {e}"))?;
     }
