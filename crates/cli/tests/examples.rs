@@ -529,6 +529,20 @@ struct Outcome {
     ran: usize,
 }
 
+/// Whether a command builds in the shared target/ (and so re-links its binaries).
+fn builds(command: &str) -> bool {
+    [
+        "cargo ",
+        "scripts/run.sh",
+        "scripts/setup.sh",
+        "pip install",
+        "maturin",
+        "install_python.sh",
+    ]
+    .iter()
+    .any(|b| command.contains(b))
+}
+
 fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
     let mut script = String::from("set -a\n");
     let mut skipped = Vec::new();
@@ -705,14 +719,24 @@ fn every_documented_example_runs_as_written() {
         .min(std::thread::available_parallelism().map_or(1, |n| n.get()));
     let queue = std::sync::Mutex::new(queue);
     let results = std::sync::Mutex::new(Vec::new());
+    // A document that builds (cargo, run.sh, pip install of the package) re-links binaries in the
+    // shared target/ — `rsts`, `example-adapter-rk4` — which vanish for an instant: it runs alone,
+    // the others share the gate.
+    let gate = std::sync::RwLock::new(());
     std::thread::scope(|scope| {
         for index in 0..jobs {
-            let (queue, results) = (&queue, &results);
+            let (queue, results, gate) = (&queue, &results, &gate);
             scope.spawn(move || {
                 let sandbox = Sandbox::new(index);
                 loop {
                     let Some((order, doc)) = queue.lock().unwrap().pop() else {
                         break;
+                    };
+                    let builds = doc.examples.iter().any(|e| builds(&e.command));
+                    let (_shared, _alone) = if builds {
+                        (None, Some(gate.write().unwrap()))
+                    } else {
+                        (Some(gate.read().unwrap()), None)
                     };
                     let outcome = run_document(doc, &sandbox, full);
                     let changed = sandbox.reset();

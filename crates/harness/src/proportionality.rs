@@ -24,10 +24,10 @@ pub struct ToleranceFit {
 }
 
 impl ToleranceFit {
-    /// `max error ≈ 3.1e2·tol^0.87 (rms 0.05 decades over 4 tolerances); max error/tol 1.2e1`.
+    /// `max error ≈ 3.1e2·tol^0.87 (rms 0.05 decades over 4 runs); max error/tol 1.2e1`.
     pub fn describe(&self) -> String {
         format!(
-            "max error ≈ {:.2e}·tol^{:.3} (rms {:.2} decades over {} tolerances); max error/tol {:.2e}",
+            "max error ≈ {:.2e}·tol^{:.3} (rms {:.2} decades over {} runs); max error/tol {:.2e}",
             self.tolerance_constant,
             self.tolerance_exponent,
             self.residual,
@@ -130,6 +130,8 @@ mod tests {
         assert!((b.tolerance_exponent - 0.8).abs() < 1e-12, "{b:?}");
         assert!((b.tolerance_constant - 30.0).abs() < 1e-9, "{b:?}");
         assert!(b.residual < 1e-12);
+        // The line counts the runs fitted (an ensemble has several per tolerance).
+        assert!(b.describe().contains("over 4 runs"), "{}", b.describe());
         assert!((b.at(1e-10) - 30.0 * 1e-8).abs() < 1e-20);
         // 30·tol^-0.2 is largest at the smallest tolerance: 30·1e2.4.
         assert!((b.max_error_over_tolerance - 30.0 * 10f64.powf(2.4)).abs() < 1e-9);

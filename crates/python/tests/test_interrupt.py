@@ -28,6 +28,10 @@ def ctrl_c_after(seconds):
     lambda: rsts.bench(["dop853", lambda *args: time.sleep(60)], t_end=1.0, samples=3),
 ], ids=["reference", "compare", "callable", "bench", "bench-callable"])
 def test_ctrl_c_raises_keyboardinterrupt(work):
+    # A shell starts background jobs with SIGINT ignored, and Python then installs no handler:
+    # give this test Python's own, as an interactive session has.
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = ctrl_c_after(0.5)
     start = time.monotonic()
     try:
