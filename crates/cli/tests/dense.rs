@@ -28,7 +28,14 @@ fn errors(doc: &Value) -> (f64, f64) {
 /// states K and the steps, the table has its line, the CSV its columns.
 #[test]
 fn builtins_report_dense_and_step_errors() {
-    for (method, tol) in [("rk4", "1e-10"), ("dopri5", "1e-9"), ("dop853", "1e-11")] {
+    for (method, tol) in [
+        ("rk4", "1e-10"),
+        ("dopri5", "1e-9"),
+        ("dop853", "1e-11"),
+        ("taylor-f64", "1e-12"),
+        ("taylor-dd", "1e-12"),
+        ("taylor-mp", "1e-12"),
+    ] {
         let doc = compare(&[
             "--method", method, "--rtol", tol, "--atol", tol, "--dense", "3",
         ]);
@@ -95,7 +102,7 @@ fn a_low_order_interpolant_shows_up_with_its_order() {
     assert!((p_her - 4.0).abs() < 0.5, "hermite: observed order {p_her}");
 }
 
-/// K out of range, a method without the check, a file, an adapter that ignores `dense`.
+/// K out of range, a file, an adapter that ignores `dense`.
 #[test]
 fn bad_dense_input_exits_2_with_a_message() {
     let base = ["--t-end", "2", "--samples", "3"];
@@ -104,10 +111,6 @@ fn bad_dense_input_exits_2_with_a_message() {
         (
             &["--dense", "65"][..],
             "--dense: K must be between 1 and 64",
-        ),
-        (
-            &["--dense", "2", "--method", "taylor-f64"][..],
-            "the dense check of taylor-f64 is not available",
         ),
     ] {
         let out = rsts_command("compare", &[&base[..], extra].concat());
@@ -131,7 +134,7 @@ fn bad_dense_input_exits_2_with_a_message() {
 }
 
 /// `bench --dense K`: every row carries the dense check (JSON fields, table columns); the
-/// adapter's chord shows up in its rows only; a method without the check exits 2.
+/// adapter's chord shows up in its rows only; K out of range exits 2.
 #[test]
 fn bench_rows_carry_the_dense_check() {
     let rk4 = adapter_rk4();
@@ -175,7 +178,7 @@ fn bench_rows_carry_the_dense_check() {
     assert!(text.contains("dense max error"), "{text}");
     let bad = rsts_command(
         "bench",
-        &["--methods", "taylor-dd", "--dense", "2", "--t-end", "5"],
+        &["--methods", "taylor-dd", "--dense", "0", "--t-end", "5"],
     );
-    assert!(exit_2(&bad, "bench taylor-dd").contains("the dense check of taylor-dd"));
+    assert!(exit_2(&bad, "bench --dense 0").contains("--dense: K must be between 1 and 64"));
 }
