@@ -5,7 +5,7 @@
 use serde_json::Value;
 
 mod common;
-use common::{adapter_rk4, exit_2, rsts_command};
+use common::{adapter_command, adapter_rk4, exit_2, python_with, rsts_command};
 
 fn compare(args: &[&str]) -> Value {
     let mut all = vec!["--t-end", "5", "--samples", "11", "--format", "json"];
@@ -181,4 +181,34 @@ fn bench_rows_carry_the_dense_check() {
         &["--methods", "taylor-dd", "--dense", "0", "--t-end", "5"],
     );
     assert!(exit_2(&bad, "bench --dense 0").contains("--dense: K must be between 1 and 64"));
+}
+
+/// heyoka answers `"dense": K` from its continuous output (`ta.update_d_output`: the Taylor
+/// polynomial of each of its steps, full order): in f64 and in MPFR its dense error is of the
+/// order of its error at the step ends, and it takes about the steps of rsts' taylor-f64 (the
+/// same Jorba–Zou step rule). Skips with a message when heyoka is missing.
+#[test]
+fn heyoka_answers_dense_from_its_taylor_polynomials() {
+    let Some(python) = python_with("heyoka", "heyoka_answers_dense_from_its_taylor_polynomials")
+    else {
+        return;
+    };
+    let tol = ["--rtol", "1e-10", "--atol", "1e-10", "--dense", "3"];
+    let ours = compare(&[&tol[..], &["--method", "taylor-f64"]].concat());
+    let our_steps = ours["dense_steps"].as_f64().unwrap();
+    for scalar in ["f64", "mpfr"] {
+        let cmd = adapter_command(&python, "heyoka_adapter.py", scalar);
+        let doc = compare(&[&tol[..], &["--exec", &cmd]].concat());
+        let steps = doc["dense_steps"].as_f64().unwrap();
+        let (dense, step) = errors(&doc);
+        assert!(step > 0.0 && step < 1e-8, "heyoka {scalar}: {doc}");
+        assert!(
+            dense <= 10.0 * step,
+            "heyoka {scalar}: dense {dense:e}, steps {step:e}"
+        );
+        assert!(
+            (steps / our_steps - 1.0).abs() < 0.2,
+            "heyoka {scalar}: {steps} steps, taylor-f64 {our_steps}"
+        );
+    }
 }
