@@ -69,6 +69,27 @@ impl StepSamples {
         self.at_step_end.push(at_step_end);
     }
 
+    /// Add a sample of a run sampling its own steps, a step end recorded in
+    /// [`step_times`](Self::step_times); a state that is not finite is an error of `method`.
+    pub fn push_step_sample(
+        &mut self,
+        method: &str,
+        t: f64,
+        y: [f64; DIM],
+        at_step_end: bool,
+    ) -> Result<(), DynamicsError> {
+        if y.iter().any(|x| !x.is_finite()) {
+            return Err(DynamicsError::Integration(format!(
+                "{method}: solution not finite at t = {t}"
+            )));
+        }
+        self.push(t, y, at_step_end);
+        if at_step_end {
+            self.step_times.push(t);
+        }
+        Ok(())
+    }
+
     /// Append the steps of `more` (a run's samples after its start).
     pub fn append(&mut self, more: StepSamples) {
         self.step_times.extend(more.step_times);

@@ -279,15 +279,7 @@ unsafe fn run<I: Isa, const P: usize, const K: usize>(
                     &evaluate::<I, P, K>(&main, &ext, &state, [tau, tau_lo], order, e),
                 );
                 let y: [f64; DIM] = std::array::from_fn(|i| x[i].iter().rev().sum());
-                if y.iter().any(|c| !c.is_finite()) {
-                    return Err(DynamicsError::Integration(format!(
-                        "{name}: solution not finite at t = {ts}"
-                    )));
-                }
-                steps.push(ts, y, end);
-                if end {
-                    steps.step_times.push(ts);
-                }
+                steps.push_step_sample(name, ts, y, end)?;
             }
             steps.check_size(name)?;
             if last {

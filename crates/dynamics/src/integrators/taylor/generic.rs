@@ -277,15 +277,7 @@ fn run<T: Real>(
                 let y: [f64; DIM] = std::array::from_fn(|i| {
                     (state[i].hi.clone() + (state[i].lo.clone() + &inc[i])).to_f64()
                 });
-                if y.iter().any(|v| !v.is_finite()) {
-                    return Err(DynamicsError::Integration(format!(
-                        "{name}: solution not finite at t = {ts}"
-                    )));
-                }
-                steps.push(ts, y, end);
-                if end {
-                    steps.step_times.push(ts);
-                }
+                steps.push_step_sample(name, ts, y, end)?;
             }
             steps.check_size(name)?;
             if last {
