@@ -15,6 +15,13 @@ heyoka shortens below max_delta_t (its own step-size rule asks for less: h is be
 of convergence at this tolerance) is an error, never a silent change of step. The order is
 heyoka's for the tolerance: ceil(-ln(tol)/2) + 1, order 13 at tol 1e-10.
 
+Dense output (`"dense": K` in the request, `rsts compare --dense K`): the run is taken step by
+step with `ta.step(max_delta_t, write_tc=True)` (the last step cut at the end time, as
+`propagate_grid` does), and the requested times, the K interior times of each step and, in
+real128 and MPFR, its end (at the step end's binary64 time) are evaluated by heyoka's continuous
+output `ta.update_d_output(t)`: the step's Taylor polynomial, of the method's full order. The
+answer carries `stats.step_times` (heyoka's steps' ends) and the dense samples.
+
 The integrator is compiled once (not timed) and `propagate_grid` through the requested times is
 timed alone: that is the `integration_seconds` of the answer. rhs_evals counts one evaluation
 per Taylor order per step (heyoka's convention; rsts' Taylor methods count one more per step).
@@ -113,7 +120,12 @@ def main():
         opts["nt_events"] = events
     ta = hy.taylor_adaptive(equations(), state, **opts)
     start = time.perf_counter()
-    if req.get("step") is not None:
+    dense = req.get("dense")
+    if dense and req.get("step") is not None:
+        sys.exit("heyoka_adapter.py: dense output is not available with a fixed step")
+    if dense:
+        steps, states, step_times, dense_samples = dense_steps(ta, times, int(dense), exact, dtype)
+    elif req.get("step") is not None:
         steps, states = fixed_steps(ta, times, float(req["step"]), num)
     else:
         outcome, _, _, steps, _, states = ta.propagate_grid(times)
@@ -133,11 +145,45 @@ def main():
     ]
     name = f"heyoka-{method}" + (f"-{req['digits']}d" if method == "mpfr" else "")
     extra = {"events": answer_events} if "events" in req else {}
+    stats = {"steps": int(steps), "rhs_evals": int(steps) * int(ta.order), "integration_seconds": seconds}
+    if dense:
+        stats["step_times"] = step_times
+        extra["dense"] = [sample(t, y, out) for t, y in dense_samples]
     json.dump(
-        {"name": name, "version": f"heyoka {hy.__version__}", "samples": samples, **extra,
-         "stats": {"steps": int(steps), "rhs_evals": int(steps) * int(ta.order), "integration_seconds": seconds}},
+        {"name": name, "version": f"heyoka {hy.__version__}", "samples": samples, **extra, "stats": stats},
         sys.stdout,
     )
+
+
+def sample(t, y, out):
+    return {"t": t, "omega": [out(x) for x in y[0:3]], "alpha": [out(x) for x in y[3:6]],
+            "beta": [out(x) for x in y[6:9]]}
+
+
+def dense_steps(ta, times, k, exact, dtype):
+    """The run step by step with heyoka's continuous output (see the module doc): the states at
+    `times`, heyoka's step ends (binary64) and, per step, K interior samples and its end."""
+    if times[0] != ta.time:
+        sys.exit("heyoka_adapter.py: a dense run starts at the first requested time")
+    states, step_times, dense = [np.array(ta.state)], [float(ta.time)], []
+    t_end, nxt, steps = times[-1], 1, 0
+    while nxt < len(times):
+        t0 = step_times[-1]
+        outcome, _ = ta.step(t_end - ta.time, write_tc=True)
+        if outcome not in (hy.taylor_outcome.success, hy.taylor_outcome.time_limit):
+            sys.exit(f"heyoka_adapter.py: heyoka stopped with {outcome} at t = {float(ta.time)}")
+        steps += 1
+        t1 = float(ta.time)
+        while nxt < len(times) and times[nxt] <= ta.time:
+            states.append(np.array(ta.update_d_output(times[nxt])))
+            nxt += 1
+        for j in range(1, k + 1):
+            t = t0 + (t1 - t0) * j / (k + 1)
+            dense.append((t, np.array(ta.update_d_output(exact(t)))))
+        end = np.array(ta.state) if dtype is np.float64 else np.array(ta.update_d_output(exact(t1)))
+        dense.append((t1, end))
+        step_times.append(t1)
+    return steps, states, step_times, dense
 
 
 def fixed_steps(ta, times, step, num):

@@ -5,7 +5,7 @@
 use serde_json::Value;
 
 mod common;
-use common::{adapter_rk4, command_json, exit_2, json_doc, rsts_command};
+use common::{adapter_command, adapter_rk4, command_json, exit_2, json_doc, python_with, rsts_command};
 
 fn compare(args: &[&str]) -> Value {
     let mut all = vec!["--t-end", "5", "--samples", "11"];
@@ -22,7 +22,14 @@ fn errors(doc: &Value) -> (f64, f64) {
 /// states K and the steps, the table has its line, the CSV its columns.
 #[test]
 fn builtins_report_dense_and_step_errors() {
-    for (method, tol) in [("rk4", "1e-10"), ("dopri5", "1e-9"), ("dop853", "1e-11")] {
+    for (method, tol) in [
+        ("rk4", "1e-10"),
+        ("dopri5", "1e-9"),
+        ("dop853", "1e-11"),
+        ("taylor-f64", "1e-12"),
+        ("taylor-dd", "1e-12"),
+        ("taylor-mp", "1e-12"),
+    ] {
         let doc = compare(&[
             "--method", method, "--rtol", tol, "--atol", tol, "--dense", "3",
         ]);
@@ -89,7 +96,7 @@ fn a_low_order_interpolant_shows_up_with_its_order() {
     assert!((p_her - 4.0).abs() < 0.5, "hermite: observed order {p_her}");
 }
 
-/// K out of range, a method without the check, a file, an adapter that ignores `dense`.
+/// K out of range, a file, an adapter that ignores `dense`.
 #[test]
 fn bad_dense_input_exits_2_with_a_message() {
     let base = ["--t-end", "2", "--samples", "3"];
@@ -98,10 +105,6 @@ fn bad_dense_input_exits_2_with_a_message() {
         (
             &["--dense", "65"][..],
             "--dense: K must be between 1 and 64",
-        ),
-        (
-            &["--dense", "2", "--method", "taylor-f64"][..],
-            "the dense check of taylor-f64 is not available",
         ),
     ] {
         let out = rsts_command("compare", &[&base[..], extra].concat());
@@ -125,7 +128,7 @@ fn bad_dense_input_exits_2_with_a_message() {
 }
 
 /// `bench --dense K`: every row carries the dense check (JSON fields, table columns); the
-/// adapter's chord shows up in its rows only; a method without the check exits 2.
+/// adapter's chord shows up in its rows only; K out of range exits 2.
 #[test]
 fn bench_rows_carry_the_dense_check() {
     let rk4 = adapter_rk4();
@@ -164,7 +167,37 @@ fn bench_rows_carry_the_dense_check() {
     assert!(text.contains("dense max error"), "{text}");
     let bad = rsts_command(
         "bench",
-        &["--methods", "taylor-dd", "--dense", "2", "--t-end", "5"],
+        &["--methods", "taylor-dd", "--dense", "0", "--t-end", "5"],
     );
-    assert!(exit_2(&bad, "bench taylor-dd").contains("the dense check of taylor-dd"));
+    assert!(exit_2(&bad, "bench --dense 0").contains("--dense: K must be between 1 and 64"));
+}
+
+/// heyoka answers `"dense": K` from its continuous output (`ta.update_d_output`: the Taylor
+/// polynomial of each of its steps, full order): in f64 and in MPFR its dense error is of the
+/// order of its error at the step ends, and it takes about the steps of rsts' taylor-f64 (the
+/// same Jorba–Zou step rule). Skips with a message when heyoka is missing.
+#[test]
+fn heyoka_answers_dense_from_its_taylor_polynomials() {
+    let Some(python) = python_with("heyoka", "heyoka_answers_dense_from_its_taylor_polynomials")
+    else {
+        return;
+    };
+    let tol = ["--rtol", "1e-10", "--atol", "1e-10", "--dense", "3"];
+    let ours = compare(&[&tol[..], &["--method", "taylor-f64"]].concat());
+    let our_steps = ours["dense_steps"].as_f64().unwrap();
+    for scalar in ["f64", "mpfr"] {
+        let cmd = adapter_command(&python, "heyoka_adapter.py", scalar);
+        let doc = compare(&[&tol[..], &["--exec", &cmd]].concat());
+        let steps = doc["dense_steps"].as_f64().unwrap();
+        let (dense, step) = errors(&doc);
+        assert!(step > 0.0 && step < 1e-8, "heyoka {scalar}: {doc}");
+        assert!(
+            dense <= 10.0 * step,
+            "heyoka {scalar}: dense {dense:e}, steps {step:e}"
+        );
+        assert!(
+            (steps / our_steps - 1.0).abs() < 0.2,
+            "heyoka {scalar}: {steps} steps, taylor-f64 {our_steps}"
+        );
+    }
 }

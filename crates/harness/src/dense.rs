@@ -133,4 +133,71 @@ mod tests {
         }
         assert!(dense_of_method(&case, &config(MethodName::Rk4, 1e-10), 0).is_err());
     }
+
+    /// The samples with the K interior states replaced by the chord between the step ends: a
+    /// linear interpolant (error O(h²)), the wrong dense output the check must expose.
+    fn chord(samples: &StepSamples) -> StepSamples {
+        let mut out = samples.clone();
+        let mut start = 0;
+        for end in (1..samples.times.len()).filter(|&i| samples.at_step_end[i]) {
+            let (t0, t1) = (samples.times[start], samples.times[end]);
+            let (y0, y1) = (samples.states[start], samples.states[end]);
+            for i in start + 1..end {
+                let s = (samples.times[i] - t0) / (t1 - t0);
+                out.states[i] = std::array::from_fn(|c| y0[c] + s * (y1[c] - y0[c]));
+            }
+            start = end;
+        }
+        out
+    }
+
+    /// The Taylor methods sample inside a step from the step's own polynomial, of full order:
+    /// the dense error stays within 10× the error at the step ends (f64, double-double, MPFR);
+    /// the chord between the same step ends — what a Taylor method interpolating linearly
+    /// would report — is off by many orders of magnitude.
+    #[test]
+    fn taylor_methods_interpolate_with_their_own_polynomial() {
+        let case = Case {
+            t_end: 10.0,
+            samples: 11,
+            ..Case::default_i_plus()
+        };
+        let k = 4;
+        for (method, tol) in [
+            (MethodName::TaylorF64, 1e-10),
+            (MethodName::TaylorF64, 1e-13),
+            (MethodName::TaylorDd, 1e-10),
+            (MethodName::TaylorMp, 1e-10),
+        ] {
+            let r = dense_of_method(&case, &config(method, tol), k).unwrap();
+            assert!(r.dense_steps >= 20, "{method}: {r:?}");
+            assert!(
+                r.step_max_error > 0.0 && r.step_max_error < 100.0 * tol,
+                "{method} at {tol:e}: {r:?}"
+            );
+            assert!(
+                r.dense_max_error <= 10.0 * r.step_max_error,
+                "{method} at {tol:e}: dense error far above the step ends: {r:?}"
+            );
+        }
+        let grid = OutputGrid::new(case.t_end, case.samples).unwrap();
+        let start = ReferenceTable::new(&case, &[0.0], None)
+            .unwrap()
+            .row_f64(0.0)
+            .unwrap();
+        let problem = Problem {
+            fields: Fields::new(case.a, case.b).unwrap(),
+            initial: State::from_slice(&start[1..10]),
+        };
+        let samples = config(MethodName::TaylorF64, 1e-10)
+            .propagate_steps(&problem, &grid, k)
+            .unwrap();
+        let own = dense_of_samples(&case, k, &samples).unwrap();
+        let linear = dense_of_samples(&case, k, &chord(&samples)).unwrap();
+        assert_eq!(own.step_max_error, linear.step_max_error);
+        assert!(
+            linear.dense_max_error > 1e4 * linear.step_max_error,
+            "the chord is not exposed: {linear:?}"
+        );
+    }
 }

@@ -14,7 +14,6 @@ use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use rsts_closed_form::Camera;
-use rsts_dynamics::integrators::dense::has_dense_check;
 use rsts_dynamics::integrators::MethodName;
 use rsts_harness::bench::{
     bench_ensemble, bench_with_dense, diagrams, BenchObserver, BenchReport, EnsemblePlan,
@@ -249,8 +248,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         shown: false,
     };
     if let Some(k) = args.dense {
-        let builtin = given.iter().copied().find(|m| !has_dense_check(*m));
-        crate::commands::compare::check_dense_option(k, builtin)?;
+        crate::commands::compare::check_dense_option(k)?;
         if args.ensemble.is_some() {
             bail!("--dense: not with --ensemble (the dense check is one more run per row of one motion)");
         }

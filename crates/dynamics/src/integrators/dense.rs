@@ -15,6 +15,8 @@
 use crate::error::DynamicsError;
 use crate::state::DIM;
 
+use super::OutputGrid;
+
 /// Largest K of [`StepSamples`]: interior samples per step.
 pub const MAX_DENSE: usize = 64;
 
@@ -30,12 +32,6 @@ pub fn check_dense(k: usize) -> Result<(), DynamicsError> {
             "dense must be between 1 and {MAX_DENSE} samples inside each step, got {k}"
         )))
     }
-}
-
-/// Whether [`super::MethodConfig::propagate_steps`] serves `method`.
-pub fn has_dense_check(method: super::MethodName) -> bool {
-    use super::MethodName::*;
-    matches!(method, Rk4 | Dopri5 | Dop853)
 }
 
 /// The samples of a run at its own steps.
@@ -73,6 +69,35 @@ impl StepSamples {
         self.at_step_end.push(at_step_end);
     }
 
+    /// Add a sample of a run sampling its own steps, a step end recorded in
+    /// [`step_times`](Self::step_times); a state that is not finite is an error of `method`.
+    pub fn push_step_sample(
+        &mut self,
+        method: &str,
+        t: f64,
+        y: [f64; DIM],
+        at_step_end: bool,
+    ) -> Result<(), DynamicsError> {
+        if y.iter().any(|x| !x.is_finite()) {
+            return Err(DynamicsError::Integration(format!(
+                "{method}: solution not finite at t = {t}"
+            )));
+        }
+        self.push(t, y, at_step_end);
+        if at_step_end {
+            self.step_times.push(t);
+        }
+        Ok(())
+    }
+
+    /// Append the steps of `more` (a run's samples after its start).
+    pub fn append(&mut self, more: StepSamples) {
+        self.step_times.extend(more.step_times);
+        self.times.extend(more.times);
+        self.states.extend(more.states);
+        self.at_step_end.extend(more.at_step_end);
+    }
+
     /// Refuse a run whose samples pass [`MAX_DENSE_SAMPLES`].
     pub fn check_size(&self, method: &str) -> Result<(), DynamicsError> {
         if self.times.len() > MAX_DENSE_SAMPLES {
@@ -80,6 +105,38 @@ impl StepSamples {
         }
         Ok(())
     }
+}
+
+/// The start of every built-in's dense check on `grid`: the samples at t = 0 (K checked) and Δ,
+/// the grid spacing, when the run takes steps (`None`: one sample, T = 0, or a spacing below
+/// [`super::ode_solvers_adapter::TINY_SPACING`], over which the motion is y₀ + t·f(y₀) to within
+/// rounding).
+pub(super) fn begin(
+    k: usize,
+    y0: [f64; DIM],
+    grid: &OutputGrid,
+) -> Result<(StepSamples, Option<f64>), DynamicsError> {
+    let scale = grid.spacing();
+    let steps =
+        grid.samples > 1 && grid.t_end != 0.0 && scale >= super::ode_solvers_adapter::TINY_SPACING;
+    Ok((StepSamples::start(k, y0)?, steps.then_some(scale)))
+}
+
+/// Where a method with a polynomial per step (the Taylor methods) samples its step
+/// [t, t + h] of a run to T: the K interior times of [t, b] and b itself (a step end), with
+/// b = min(t + h, T) — the last step is cut at T, where the plain run takes its last sample
+/// from the same polynomial. The flag is `true` for the step end; the `bool` returned says
+/// whether this step is the last.
+pub fn polynomial_step(
+    t: f64,
+    h: f64,
+    t_end: f64,
+    k: usize,
+) -> (impl Iterator<Item = (f64, bool)>, bool) {
+    let last = t_end <= t + h;
+    let b = if last { t_end } else { t + h };
+    let inside = interior_times(t, b, k).map(|s| (s, false));
+    (inside.chain(std::iter::once((b, true))), last)
 }
 
 /// The error of a dense check holding `samples` samples.

@@ -9,7 +9,7 @@ dormand_prince_method! {
     beta = 0.0, fac_min = 0.333, fac_max = 6.0
 }
 
-use super::dense::{too_many, StepSamples, MAX_DENSE_SAMPLES};
+use super::dense::{begin, too_many, StepSamples, MAX_DENSE_SAMPLES};
 use super::ode_solvers_adapter as adapter;
 use super::{OutputGrid, Problem};
 use crate::equations::VectorField;
@@ -27,8 +27,8 @@ impl Dop853 {
         grid: &OutputGrid,
         k: usize,
     ) -> Result<StepSamples, DynamicsError> {
-        let mut out = StepSamples::start(k, problem.initial.to_array())?;
-        let Some(scale) = adapter::dense_scale(grid) else {
+        let (mut out, scale) = begin(k, problem.initial.to_array(), grid)?;
+        let Some(scale) = scale else {
             return Ok(out);
         };
         let field = VectorField::new(&problem.fields);

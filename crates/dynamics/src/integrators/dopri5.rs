@@ -11,7 +11,7 @@ dormand_prince_method! {
 
 use ode_solvers::continuous_output_model::ContinuousOutputModel;
 
-use super::dense::{interior_times, StepSamples};
+use super::dense::{begin, interior_times, StepSamples};
 use super::ode_solvers_adapter::{self as adapter, Vector9};
 use super::{OutputGrid, Problem};
 use crate::equations::VectorField;
@@ -27,8 +27,8 @@ impl Dopri5 {
         grid: &OutputGrid,
         k: usize,
     ) -> Result<StepSamples, DynamicsError> {
-        let mut out = StepSamples::start(k, problem.initial.to_array())?;
-        let Some(scale) = adapter::dense_scale(grid) else {
+        let (mut out, scale) = begin(k, problem.initial.to_array(), grid)?;
+        let Some(scale) = scale else {
             return Ok(out);
         };
         let field = VectorField::new(&problem.fields);

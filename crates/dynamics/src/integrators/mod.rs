@@ -470,10 +470,16 @@ impl MethodConfig {
             }
             MethodName::Dopri5 => Dopri5::new(self.tolerances).propagate_steps(problem, grid, k),
             MethodName::Dop853 => Dop853::new(self.tolerances).propagate_steps(problem, grid, k),
-            m => Err(DynamicsError::Settings(format!(
-                "the dense check of {m} is not available (rk4, dopri5, dop853 and --exec \
-                 integrators have it)"
-            ))),
+            MethodName::TaylorF64 => Taylor::new(self.tolerances).propagate_steps(problem, grid, k),
+            MethodName::TaylorDd => {
+                let p = map_problem(problem, |x| DoubleDouble::from_f64_exact(*x));
+                Taylor::new(self.tolerances).propagate_steps(&p, grid, k)
+            }
+            MethodName::TaylorMp => {
+                let bits = self.working_bits();
+                let p = map_problem(problem, |x| Float::with_val(bits, x));
+                Taylor::new(self.tolerances).propagate_steps(&p, grid, k)
+            }
         }
     }
 }

@@ -156,13 +156,6 @@ pub(super) fn solver_end(grid: &OutputGrid) -> f64 {
     (grid.samples - 1) as f64 + 1e-6
 }
 
-/// The scale Δ of a dense-check run on `grid` (see [`EulerPoissonSystem`]), `None` when it
-/// takes no step (one sample, T = 0, or a spacing below [`TINY_SPACING`]).
-pub(super) fn dense_scale(grid: &OutputGrid) -> Option<f64> {
-    let scale = grid.spacing();
-    (grid.samples > 1 && grid.t_end != 0.0 && scale >= TINY_SPACING).then_some(scale)
-}
-
 /// A dense check must reach T with finite states (the solver stops at the first non-finite
 /// state, see [`EulerPoissonSystem`]).
 pub(super) fn check_reached(

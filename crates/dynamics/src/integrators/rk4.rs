@@ -14,7 +14,7 @@ use crate::equations::VectorField;
 use crate::error::DynamicsError;
 use crate::state::{State, DIM};
 
-use super::dense::{hermite, interior_times, too_many, StepSamples, MAX_DENSE_SAMPLES};
+use super::dense::{begin, hermite, interior_times, too_many, StepSamples, MAX_DENSE_SAMPLES};
 use super::ode_solvers_adapter::{initial_only, non_finite_at};
 use super::{OutputGrid, Problem, Propagator, Solution, Stats, Tolerances, MAX_STEPS};
 
@@ -133,8 +133,8 @@ impl Rk4 {
         grid: &OutputGrid,
         k: usize,
     ) -> Result<StepSamples, DynamicsError> {
-        let mut out = StepSamples::start(k, problem.initial.to_array())?;
-        if grid.samples <= 1 || grid.t_end == 0.0 {
+        let (mut out, scale) = begin(k, problem.initial.to_array(), grid)?;
+        if scale.is_none() {
             return Ok(out);
         }
         let total = self.steps_for(grid) * (k + 1) as f64;

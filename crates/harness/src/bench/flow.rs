@@ -11,7 +11,6 @@ use std::collections::btree_map::{BTreeMap, Entry};
 
 use rsts_closed_form::events::EventSpec;
 use rsts_closed_form::Camera;
-use rsts_dynamics::integrators::dense::has_dense_check;
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances, MAX_MP_DIGITS};
 use serde::Serialize;
 
@@ -241,15 +240,6 @@ fn run(
     }
     if let Some(k) = dense {
         crate::dense::check_dense(k).map_err(|e| setting(&["dense"], e.to_string()))?;
-        let without = methods.iter().find_map(|m| match m {
-            BenchMethod::BuiltIn(n) if !has_dense_check(*n) => Some(*n),
-            _ => None,
-        });
-        if let Some(n) = without {
-            return Err(setting(&["dense"], format!(
-                "the dense check of {n} is not available (rk4, dopri5, dop853 and integrators from outside that report their steps have it)"
-            )));
-        }
     }
     if case.t_end <= 0.0 || case.samples < 2 {
         return Err(setting(

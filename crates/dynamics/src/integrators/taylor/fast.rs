@@ -26,6 +26,7 @@ use rug::Float;
 
 use crate::equations::{Component, Param, VectorField};
 use crate::error::DynamicsError;
+use crate::integrators::dense::{polynomial_step, StepSamples};
 use crate::integrators::{OutputGrid, Problem, Solution, Stats, Tolerances};
 use crate::scalar::{double_double::DD_BITS, DoubleDouble, Real, F64_BITS};
 use crate::state::{State, DIM};
@@ -47,11 +48,13 @@ pub(crate) struct FastInput<const K: usize> {
     pub b: [f64; K],
 }
 
-/// A run's output: the states at the grid times in K parts (natural order).
+/// A run's output: the states at the grid times in K parts (natural order), or with
+/// [`FastSettings::dense`] the run's own steps (rounded to f64, the start left out).
 #[derive(Clone, Debug)]
 pub(crate) struct FastOutput<const K: usize> {
     pub times: Vec<f64>,
     pub states: Vec<[[f64; K]; DIM]>,
+    pub steps: StepSamples,
     pub stats: Stats,
 }
 
@@ -64,6 +67,9 @@ pub(crate) struct FastSettings<'a> {
     pub grid: &'a OutputGrid,
     /// Coefficients x₁ … x_ext computed in K parts (≤ [`MAX_EXT`]).
     pub ext: usize,
+    /// `Some(k)`: sample the run's own steps, k times inside each ([`polynomial_step`]),
+    /// instead of the grid.
+    pub dense: Option<usize>,
 }
 
 /// c·param in K parts.
@@ -191,6 +197,7 @@ unsafe fn run<I: Isa, const P: usize, const K: usize>(
         order,
         tolerances,
         grid,
+        dense,
         ..
     } = settings;
     let Tolerances { rtol, atol } = tolerances;
@@ -208,6 +215,7 @@ unsafe fn run<I: Isa, const P: usize, const K: usize>(
     let mut stats = Stats::default();
     let mut times = Vec::with_capacity(grid.samples);
     let mut states = Vec::with_capacity(grid.samples);
+    let mut steps = StepSamples::default();
     let mut next = 0;
     while next < grid.samples {
         if stats.accepted_steps >= MAX_STEPS {
@@ -260,9 +268,27 @@ unsafe fn run<I: Isa, const P: usize, const K: usize>(
             )));
         }
 
+        if let Some(k) = dense {
+            // The step's own samples; its end t + h is exact, so τ = h there: the state the
+            // update below computes.
+            let (samples, last) = polynomial_step(t, h, grid.t_end, k);
+            for (ts, end) in samples {
+                let (tau, tau_lo) = two_sum::<Scalar<I>>(ts, -t);
+                let x = from_lanes(
+                    layout,
+                    &evaluate::<I, P, K>(&main, &ext, &state, [tau, tau_lo], order, e),
+                );
+                let y: [f64; DIM] = std::array::from_fn(|i| x[i].iter().rev().sum());
+                steps.push_step_sample(name, ts, y, end)?;
+            }
+            steps.check_size(name)?;
+            if last {
+                break;
+            }
+        }
         // Dense output at the grid times inside [t, t + h].
         let t_step_end = t + h;
-        while next < grid.samples && grid.time(next) <= t_step_end {
+        while dense.is_none() && next < grid.samples && grid.time(next) <= t_step_end {
             let tg = grid.time(next);
             let (tau, tau_lo) = two_sum::<Scalar<I>>(tg, -t);
             let x = from_lanes(
@@ -288,6 +314,7 @@ unsafe fn run<I: Isa, const P: usize, const K: usize>(
     Ok(FastOutput {
         times,
         states,
+        steps,
         stats,
     })
 }
@@ -408,14 +435,14 @@ fn parts_to_float<const K: usize>(x: &[f64; K], bits: u32) -> Float {
 impl Taylor {
     /// Run the lane kernel (P parts, state in K = P + 1) for `table`, if it applies: the
     /// table has a [`Layout`] and the state is compensated. `bits`: the kernel scalar's bits
-    /// (for the tolerance check).
+    /// (for the tolerance check); `dense`: [`FastSettings::dense`].
     fn run_lanes<const P: usize, const K: usize>(
         &self,
         table: &[Component; DIM],
         input: &FastInput<K>,
         bits: u32,
         name: &'static str,
-        grid: &OutputGrid,
+        (grid, dense): (&OutputGrid, Option<usize>),
     ) -> Result<Option<FastOutput<K>>, DynamicsError> {
         // A fixed order and step runs on the generic stepper.
         if !self.compensated || self.fixed.is_some() {
@@ -439,8 +466,43 @@ impl Taylor {
             tolerances: self.tolerances,
             grid: &grid,
             ext: ext_orders(P, eps),
+            dense,
         };
         run_on::<P, K>(path, &layout, input, settings).map(Some)
+    }
+
+    /// The lane-kernel run of taylor-f64 or taylor-dd (`None`: another scalar, or a table or
+    /// setting the kernel does not take); `dense`: [`FastSettings::dense`].
+    pub(super) fn lane_run<T: Real>(
+        &self,
+        field: &VectorField<T>,
+        problem: &Problem<T>,
+        grid: &OutputGrid,
+        dense: Option<usize>,
+    ) -> Result<Option<LaneRun>, DynamicsError> {
+        let any: &dyn Any = problem;
+        let table = field.table();
+        if let Some(p) = any.downcast_ref::<Problem<f64>>() {
+            let input = FastInput::<2> {
+                x0: p.initial.to_array().map(|x| [x, 0.0]),
+                a: [p.fields.a, 0.0],
+                b: [p.fields.b, 0.0],
+            };
+            let out =
+                self.run_lanes::<1, 2>(table, &input, F64_BITS, Self::NAME_F64, (grid, dense));
+            Ok(out?.map(LaneRun::F64))
+        } else if let Some(p) = any.downcast_ref::<Problem<DoubleDouble>>() {
+            let dd = |x: &DoubleDouble| [x.hi, x.lo, 0.0];
+            let input = FastInput::<3> {
+                x0: p.initial.to_array().map(|x| dd(&x)),
+                a: dd(&p.fields.a),
+                b: dd(&p.fields.b),
+            };
+            let out = self.run_lanes::<2, 3>(table, &input, DD_BITS, Self::NAME_DD, (grid, dense));
+            Ok(out?.map(LaneRun::Dd))
+        } else {
+            Ok(None)
+        }
     }
 
     /// taylor-f64 and taylor-dd of [`Taylor::propagate_field`] on the lane kernel (`None`:
@@ -451,36 +513,12 @@ impl Taylor {
         problem: &Problem<T>,
         grid: &OutputGrid,
     ) -> Result<Option<Solution<T>>, DynamicsError> {
-        let any: &dyn Any = problem;
-        let solution: Box<dyn Any> = if let Some(p) = any.downcast_ref::<Problem<f64>>() {
-            let input = FastInput::<2> {
-                x0: p.initial.to_array().map(|x| [x, 0.0]),
-                a: [p.fields.a, 0.0],
-                b: [p.fields.b, 0.0],
-            };
-            let Some(out) =
-                self.run_lanes::<1, 2>(field.table(), &input, F64_BITS, Self::NAME_F64, grid)?
-            else {
-                return Ok(None);
-            };
-            Box::new(solution(Self::NAME_F64, out, |x| x[0] + x[1]))
-        } else if let Some(p) = any.downcast_ref::<Problem<DoubleDouble>>() {
-            let dd = |x: &DoubleDouble| [x.hi, x.lo, 0.0];
-            let input = FastInput::<3> {
-                x0: p.initial.to_array().map(|x| dd(&x)),
-                a: dd(&p.fields.a),
-                b: dd(&p.fields.b),
-            };
-            let Some(out) =
-                self.run_lanes::<2, 3>(field.table(), &input, DD_BITS, Self::NAME_DD, grid)?
-            else {
-                return Ok(None);
-            };
-            Box::new(solution(Self::NAME_DD, out, |x| {
+        let solution: Box<dyn Any> = match self.lane_run(field, problem, grid, None)? {
+            Some(LaneRun::F64(out)) => Box::new(solution(Self::NAME_F64, out, |x| x[0] + x[1])),
+            Some(LaneRun::Dd(out)) => Box::new(solution(Self::NAME_DD, out, |x| {
                 DoubleDouble::new(x[0], x[1] + x[2])
-            }))
-        } else {
-            return Ok(None);
+            })),
+            None => return Ok(None),
         };
         Ok(Some(
             *solution
@@ -510,7 +548,7 @@ impl Taylor {
                 b: float_parts(&problem.fields.b),
             };
             if let Some(out) =
-                self.run_lanes::<2, 3>(table, &input, DD_BITS, Self::NAME_DD, grid)?
+                self.run_lanes::<2, 3>(table, &input, DD_BITS, Self::NAME_DD, (grid, None))?
             {
                 return Ok(solution(Self::NAME_DD, out, |x| parts_to_float(x, bits)));
             }
@@ -524,7 +562,7 @@ impl Taylor {
                 b: float_parts(&problem.fields.b),
             };
             if let Some(out) =
-                self.run_lanes::<1, 2>(table, &input, F64_BITS, Self::NAME_F64, grid)?
+                self.run_lanes::<1, 2>(table, &input, F64_BITS, Self::NAME_F64, (grid, None))?
             {
                 return Ok(solution(Self::NAME_F64, out, |x| parts_to_float(x, bits)));
             }
@@ -533,6 +571,22 @@ impl Taylor {
             Ok(crate::integrators::map_solution(sol, |x| {
                 Float::with_val(bits, *x)
             }))
+        }
+    }
+}
+
+/// A lane-kernel run: taylor-f64 (state in two parts) or taylor-dd (three).
+pub(super) enum LaneRun {
+    F64(FastOutput<2>),
+    Dd(FastOutput<3>),
+}
+
+impl LaneRun {
+    /// The run's own steps ([`FastSettings::dense`]).
+    pub(super) fn steps(self) -> StepSamples {
+        match self {
+            LaneRun::F64(out) => out.steps,
+            LaneRun::Dd(out) => out.steps,
         }
     }
 }

@@ -9,6 +9,7 @@ use rug::Float;
 
 use crate::equations::{CauchyScratch, VectorField};
 use crate::error::DynamicsError;
+use crate::integrators::dense::{polynomial_step, StepSamples};
 use crate::integrators::{OutputGrid, Problem, Solution, Stats, Tolerances};
 use crate::scalar::Real;
 use crate::state::{State, DIM};
@@ -163,6 +164,30 @@ pub(super) fn propagate<T: Real>(
     problem: &Problem<T>,
     grid: &OutputGrid,
 ) -> Result<Solution<T>, DynamicsError> {
+    run(taylor, field, problem, grid, None).map(|(solution, _)| solution)
+}
+
+/// The same loop sampling its own steps, `k` times inside each ([`polynomial_step`]): the
+/// samples (rounded to f64, the start left out) appended to `out`.
+pub(super) fn propagate_steps<T: Real>(
+    taylor: &Taylor,
+    field: VectorField<T>,
+    problem: &Problem<T>,
+    grid: &OutputGrid,
+    k: usize,
+) -> Result<StepSamples, DynamicsError> {
+    run(taylor, field, problem, grid, Some(k)).map(|(_, steps)| steps)
+}
+
+/// The stepping loop: the states at the grid times, or with `dense` = `Some(k)` the run's own
+/// steps with k samples inside each.
+fn run<T: Real>(
+    taylor: &Taylor,
+    field: VectorField<T>,
+    problem: &Problem<T>,
+    grid: &OutputGrid,
+    dense: Option<usize>,
+) -> Result<(Solution<T>, StepSamples), DynamicsError> {
     let name = Taylor::name_for::<T>();
     let grid = OutputGrid::new(grid.t_end, grid.samples)?;
     let like = problem.initial.omega[0].clone();
@@ -194,6 +219,7 @@ pub(super) fn propagate<T: Real>(
     let mut stats = Stats::default();
     let mut times = Vec::with_capacity(grid.samples);
     let mut states = Vec::with_capacity(grid.samples);
+    let mut steps = StepSamples::default();
     let mut next = 0;
     let mut inc: [T; DIM] = std::array::from_fn(|_| like.zero_like());
     while next < grid.samples {
@@ -241,9 +267,26 @@ pub(super) fn propagate<T: Real>(
             )));
         }
 
+        if let Some(k) = dense {
+            // The step's own samples, each at its f64 time (t is kept to more than f64: at
+            // the step end τ differs from h by the rounding of t + h to f64).
+            let (samples, last) = polynomial_step(t_now, h, grid.t_end, k);
+            for (ts, end) in samples {
+                let tau = (like.lit(ts) - &t.hi) - &t.lo;
+                work.increment(&tau, &mut inc);
+                let y: [f64; DIM] = std::array::from_fn(|i| {
+                    (state[i].hi.clone() + (state[i].lo.clone() + &inc[i])).to_f64()
+                });
+                steps.push_step_sample(name, ts, y, end)?;
+            }
+            steps.check_size(name)?;
+            if last {
+                break;
+            }
+        }
         // Dense output at the grid times inside [t, t + h].
         let t_step_end = t_now + h;
-        while next < grid.samples && grid.time(next) <= t_step_end {
+        while dense.is_none() && next < grid.samples && grid.time(next) <= t_step_end {
             let tg = grid.time(next);
             let tau = (like.lit(tg) - &t.hi) - &t.lo;
             work.increment(&tau, &mut inc);
@@ -274,10 +317,11 @@ pub(super) fn propagate<T: Real>(
         t.add(&h_t);
     }
     stats.integration_seconds = start.elapsed().as_secs_f64();
-    Ok(Solution {
+    let solution = Solution {
         method: name,
         times,
         states,
         stats,
-    })
+    };
+    Ok((solution, steps))
 }

@@ -49,6 +49,7 @@ use crate::equations::VectorField;
 use crate::error::DynamicsError;
 use crate::scalar::Real;
 
+use super::dense::StepSamples;
 use super::{OutputGrid, Problem, Propagator, Solution, Tolerances};
 
 /// Largest Taylor order accepted (a tolerance of about 1e-170).
@@ -210,5 +211,34 @@ impl Taylor {
             return Ok(sol);
         }
         generic::propagate(self, field, problem, grid)
+    }
+}
+
+impl Taylor {
+    /// The run of [`Propagator::propagate_grid`] on `grid` as its own steps — the same steps,
+    /// the last one cut at T where the plain run takes its last sample — with `k` samples
+    /// inside each from the step's Taylor polynomial (Horner at τ = j·h/(k + 1)): the method's
+    /// dense output, of its full order ([`super::dense`]). The lane kernel (taylor-f64,
+    /// taylor-dd) and the generic stepper (taylor-mp, a fixed order) both sample in their own
+    /// loop, so a dense run takes exactly the plain run's steps.
+    pub fn propagate_steps<T: Real>(
+        &self,
+        problem: &Problem<T>,
+        grid: &OutputGrid,
+        k: usize,
+    ) -> Result<StepSamples, DynamicsError> {
+        let y0 = problem.initial.to_array().map(|x| x.to_f64());
+        let (mut out, scale) = super::dense::begin(k, y0, grid)?;
+        if scale.is_none() {
+            return Ok(out);
+        }
+        let field = VectorField::new(&problem.fields);
+        let steps = match self.lane_run(&field, problem, grid, Some(k))? {
+            Some(run) => run.steps(),
+            None => generic::propagate_steps(self, field, problem, grid, k)?,
+        };
+        out.append(steps);
+        out.check_size(Self::name_for::<T>())?;
+        Ok(out)
     }
 }
