@@ -451,6 +451,13 @@ impl Real for DoubleDouble {
     fn cos(&self) -> Self {
         self.sin_cos().1
     }
+    /// Both from one reduction and one series (the default would run [`Self::sin_cos`] twice).
+    fn sin_cos(&self) -> (Self, Self) {
+        DoubleDouble::sin_cos(self)
+    }
+    fn square(&self) -> Self {
+        self.sqr()
+    }
     fn atan2(&self, x: &Self) -> Self {
         let y = self;
         if x.is_zero() || y.is_zero() || !x.hi.is_finite() || !y.hi.is_finite() {
