@@ -10,8 +10,9 @@
 //! * `sqrt`: one Newton step on the f64 square root (Karp's trick);
 //! * `exp`: reduction by m·ln 2 (ln 2 in three parts) and by 2⁻⁹, Taylor series of expm1,
 //!   nine squarings, scaling by 2^m;
-//! * `sin`, `cos`: reduction by j·π/2 (π/2 in three parts, exact products), then by kπ/16
-//!   (a table of sin, cos kπ/16), Taylor series of sin on |t| ≤ π/32, cos t = √(1 − sin²t);
+//! * `sin`, `cos`: reduction by n·π/16 (π/16 in three parts, exact products; a table of sin,
+//!   cos kπ/16, |k| ≤ 4, and the quadrant by symmetry), Taylor series of sin on |t| ≤ π/32,
+//!   cos t = √(1 − sin²t);
 //! * `ln`, `atan2`: one Newton step from the `f64` value (the error squares: 53 → 106 bits);
 //!   `ln` near 1 is accurate to ~1e-32 absolutely rather than relatively;
 //! * `parse` and `to_decimal` go through MPFR (`rug::Float`) at 256 bits, so decimal input is
@@ -41,7 +42,7 @@ pub struct DoubleDouble {
 }
 
 /// Error-free sum: s + e = a + b exactly, s = fl(a + b) (Knuth's TwoSum, 6 flops, any order).
-#[inline]
+#[inline(always)]
 pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
@@ -50,7 +51,7 @@ pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
 }
 
 /// Error-free sum for |a| ≥ |b| (Dekker's FastTwoSum, 3 flops).
-#[inline]
+#[inline(always)]
 pub fn quick_two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let e = b - (s - a);
@@ -58,7 +59,7 @@ pub fn quick_two_sum(a: f64, b: f64) -> (f64, f64) {
 }
 
 /// Error-free product: p + e = a·b exactly, p = fl(a·b), with one fused multiply-add.
-#[inline]
+#[inline(always)]
 pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
     let e = a.mul_add(b, -p);
@@ -70,11 +71,6 @@ const PI: [f64; 3] = [
     std::f64::consts::PI,
     1.2246467991473532e-16,
     -2.9947698097183397e-33,
-];
-const PI_2: [f64; 3] = [
-    std::f64::consts::FRAC_PI_2,
-    6.123233995736766e-17,
-    -1.4973849048591698e-33,
 ];
 const LN2: [f64; 3] = [
     std::f64::consts::LN_2,
@@ -115,18 +111,21 @@ impl DoubleDouble {
         Self { hi: x, lo: 0.0 }
     }
 
+    #[inline(always)]
     fn from_quick(a: f64, b: f64) -> Self {
         let (hi, lo) = quick_two_sum(a, b);
         Self { hi, lo }
     }
 
     /// The sum of two f64, exactly.
+    #[inline(always)]
     pub fn sum_f64(a: f64, b: f64) -> Self {
         let (hi, lo) = two_sum(a, b);
         Self { hi, lo }
     }
 
     /// The product of two f64, exactly.
+    #[inline(always)]
     pub fn prod_f64(a: f64, b: f64) -> Self {
         let (hi, lo) = two_prod(a, b);
         Self { hi, lo }
@@ -165,18 +164,21 @@ impl DoubleDouble {
     }
 
     /// self + b for an f64 b.
+    #[inline(always)]
     pub fn add_f64(self, b: f64) -> Self {
         let (s, e) = two_sum(self.hi, b);
         Self::from_quick(s, e + self.lo)
     }
 
     /// self · b for an f64 b.
+    #[inline(always)]
     pub fn mul_f64(self, b: f64) -> Self {
         let (p, e) = two_prod(self.hi, b);
         Self::from_quick(p, self.lo.mul_add(b, e))
     }
 
     /// self / b for an f64 b.
+    #[inline(always)]
     pub fn div_f64(self, b: f64) -> Self {
         let q1 = self.hi / b;
         let r = self - Self::prod_f64(q1, b);
@@ -187,16 +189,19 @@ impl DoubleDouble {
     }
 
     /// self².
+    #[inline(always)]
     pub fn sqr(self) -> Self {
         let (p, e) = two_prod(self.hi, self.hi);
         let e = (2.0 * self.hi).mul_add(self.lo, e);
         Self::from_quick(p, e)
     }
 
+    #[inline(always)]
     fn is_zero(&self) -> bool {
         self.hi == 0.0
     }
 
+    #[inline(always)]
     fn is_negative(&self) -> bool {
         self.hi < 0.0 || (self.hi == 0.0 && self.hi.is_sign_negative())
     }
@@ -208,52 +213,67 @@ impl DoubleDouble {
         }
     }
 
-    /// x − j·π/2 with π/2 in three parts and j·p₀, j·p₁ exact: accurate to 2⁻¹⁰⁶ relative to the
-    /// result for |j| < 2⁵⁰.
-    fn reduce_pi_2(self, j: f64) -> Self {
-        let r = self - Self::prod_f64(j, PI_2[0]);
-        let r = r - Self::prod_f64(j, PI_2[1]);
-        r - Self::from_f64_exact(j * PI_2[2])
+    /// self + b for addends that do not cancel (|self + b| at least half the larger of
+    /// |self|, |b|): QD's `sloppy_add`, one error-free sum instead of two, error a few units of
+    /// 2⁻¹⁰⁶ of the sum.
+    #[inline(always)]
+    fn add_no_cancel(self, b: Self) -> Self {
+        let (s, e) = two_sum(self.hi, b.hi);
+        Self::from_quick(s, e + (self.lo + b.lo))
     }
 
-    /// (sin r, cos r) for |r| ≤ π/4: r = kπ/16 + t with |t| ≤ π/32, sin t by its Taylor
-    /// polynomial to t¹⁹ (Horner in t², coefficients 1/n! to 106 bits), cos t = √(1 − sin²t),
-    /// then the angle-sum formulas with sin, cos of kπ/16 from a table (QD's method).
-    fn sin_cos_reduced(r: Self) -> (Self, Self) {
-        if r.is_zero() {
-            return (r, Self::ONE);
-        }
+    /// (sin t, cos t) for |t| ≤ π/32, rotated by kπ/16 (|k| ≤ 4): sin t by its Taylor
+    /// polynomial to t¹⁹ (Horner in t², coefficients 1/n! to 106 bits, the terms from t¹¹ on
+    /// in f64), cos t = √(1 − sin²t), then the angle-sum formulas with sin, cos of kπ/16 from a
+    /// table (QD's method). No sum here cancels (each one's smaller addend is below half the
+    /// larger: |sin(π/16)cos(π/32)| > 2·|cos(π/16)sin(π/32)|), so they are [`Self::add_no_cancel`].
+    #[inline(always)]
+    fn sin_cos_reduced(t: Self, k: f64) -> (Self, Self) {
         let tables = sin_cos_tables();
-        let k = (r.hi * (16.0 / std::f64::consts::PI)).round();
-        // π/16 in three parts (exact: π's parts scaled by 2⁻⁴).
-        let t = r - Self::prod_f64(k, PI[0] / 16.0);
-        let t = t - Self::prod_f64(k, PI[1] / 16.0);
-        let t = t - Self::from_f64_exact(k * (PI[2] / 16.0));
         let t2 = t.sqr();
         let c = &tables.inverse_factorials;
-        let mut p = c[c.len() - 1];
-        for ck in c.iter().rev().skip(1) {
-            p = p * t2 + *ck;
+        // The terms from t¹¹ on are below 1.3e-15 of the first (t⁸·3!/11! for |t| ≤ π/32):
+        // their sum in plain f64 errs by ~1e-31 of the series (t³/6), ~1e-33 of sin t.
+        let mut tail = c[8].hi;
+        for ck in c[4..8].iter().rev() {
+            tail = tail * t2.hi + ck.hi;
         }
-        let sin_t = t + t * t2 * p;
-        let cos_t = (Self::ONE - sin_t.sqr()).sqrt();
+        let mut p = t2.mul_f64(tail).add_no_cancel(c[3]);
+        for ck in c[..3].iter().rev() {
+            p = (p * t2).add_no_cancel(*ck);
+        }
+        let sin_t = t.add_no_cancel(t * t2 * p);
+        let cos_t = Self::ONE.add_no_cancel(-sin_t.sqr()).sqrt();
         let j = k.abs() as usize;
         if j == 0 {
             return (sin_t, cos_t);
         }
         let (sk, ck) = tables.sin_cos_k16[j - 1];
         let sk = if k < 0.0 { -sk } else { sk };
-        (sk * cos_t + ck * sin_t, ck * cos_t - sk * sin_t)
+        (
+            (sk * cos_t).add_no_cancel(ck * sin_t),
+            (ck * cos_t).add_no_cancel(-(sk * sin_t)),
+        )
     }
 
-    /// (sin x, cos x).
+    /// (sin x, cos x): x = nπ/16 + t with |t| ≤ π/32 in one reduction (π/16 in three parts,
+    /// n·p₀ and n·p₁ exact: accurate to 2⁻¹⁰⁶ relative to t for |n| < 2⁵⁰), n = 8j + k with
+    /// |k| ≤ 4, the quadrant j by symmetry.
+    #[inline(always)]
     pub fn sin_cos(&self) -> (Self, Self) {
         if !self.hi.is_finite() {
             return (Self::nan(), Self::nan());
         }
-        let j = (self.hi / PI_2[0]).round();
-        let r = self.reduce_pi_2(j);
-        let (s, c) = Self::sin_cos_reduced(r);
+        if self.is_zero() {
+            return (*self, Self::ONE);
+        }
+        let n = (self.hi * (16.0 / std::f64::consts::PI)).round();
+        // π/16 in three parts (exact: π's parts scaled by 2⁻⁴).
+        let t = *self - Self::prod_f64(n, PI[0] / 16.0);
+        let t = t - Self::prod_f64(n, PI[1] / 16.0);
+        let t = t - Self::from_f64_exact(n * (PI[2] / 16.0));
+        let j = (n / 8.0).round();
+        let (s, c) = Self::sin_cos_reduced(t, n - 8.0 * j);
         match (j.rem_euclid(4.0)) as u32 {
             0 => (s, c),
             1 => (c, -s),
@@ -315,6 +335,7 @@ impl PartialOrd for DoubleDouble {
 
 impl Neg for DoubleDouble {
     type Output = Self;
+    #[inline(always)]
     fn neg(self) -> Self {
         Self {
             hi: -self.hi,
@@ -326,7 +347,7 @@ impl Neg for DoubleDouble {
 impl Add for DoubleDouble {
     type Output = Self;
     /// Accurate double-double sum (QD's `ieee_add`).
-    #[inline]
+    #[inline(always)]
     fn add(self, b: Self) -> Self {
         let (s, e) = two_sum(self.hi, b.hi);
         let (t, f) = two_sum(self.lo, b.lo);
@@ -337,7 +358,7 @@ impl Add for DoubleDouble {
 
 impl Sub for DoubleDouble {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn sub(self, b: Self) -> Self {
         self + (-b)
     }
@@ -345,7 +366,7 @@ impl Sub for DoubleDouble {
 
 impl Mul for DoubleDouble {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn mul(self, b: Self) -> Self {
         let (p, e) = two_prod(self.hi, b.hi);
         let e = self.hi.mul_add(b.lo, self.lo.mul_add(b.hi, e));
@@ -355,14 +376,16 @@ impl Mul for DoubleDouble {
 
 impl Div for DoubleDouble {
     type Output = Self;
-    /// Long division with three f64 quotient digits (QD's accurate division).
+    /// Two f64 quotient digits: q₁ = a/b in f64, the remainder r = a − q₁b with the exact
+    /// product q₁·b.hi (a.hi − p is exact: p is within a factor 2 of a.hi, Sterbenz), then
+    /// q₂ = r/b.hi. Relative error a few units of 2⁻¹⁰⁶ (each of the ~6 roundings in r and q₂
+    /// is 2⁻⁵³ of a number 2⁻⁵³ below the quotient); two divisions instead of QD's three.
+    #[inline(always)]
     fn div(self, b: Self) -> Self {
         let q1 = self.hi / b.hi;
-        let r = self - b.mul_f64(q1);
-        let q2 = r.hi / b.hi;
-        let r = r - b.mul_f64(q2);
-        let q3 = r.hi / b.hi;
-        Self::from_quick(q1, q2).add_f64(q3)
+        let (p, e) = two_prod(q1, b.hi);
+        let r = (((self.hi - p) - e) + self.lo) - q1 * b.lo;
+        Self::from_quick(q1, r / b.hi)
     }
 }
 
@@ -370,19 +393,19 @@ macro_rules! forward_ops {
     ($($tr:ident $m:ident $atr:ident $am:ident),*) => {$(
         impl<'a> $tr<&'a DoubleDouble> for DoubleDouble {
             type Output = DoubleDouble;
-            #[inline]
+            #[inline(always)]
             fn $m(self, o: &'a DoubleDouble) -> DoubleDouble {
                 $tr::$m(self, *o)
             }
         }
         impl $atr for DoubleDouble {
-            #[inline]
+            #[inline(always)]
             fn $am(&mut self, o: DoubleDouble) {
                 *self = $tr::$m(*self, o);
             }
         }
         impl<'a> $atr<&'a DoubleDouble> for DoubleDouble {
-            #[inline]
+            #[inline(always)]
             fn $am(&mut self, o: &'a DoubleDouble) {
                 *self = $tr::$m(*self, *o);
             }
@@ -422,6 +445,7 @@ impl Real for DoubleDouble {
     fn epsilon(&self) -> Self {
         Self::EPSILON
     }
+    #[inline(always)]
     fn sqrt(&self) -> Self {
         if self.is_zero() {
             return *self;
@@ -438,6 +462,7 @@ impl Real for DoubleDouble {
         let r = *self - Self::prod_f64(ay, ay);
         Self::from_f64_exact(ay).add_f64(r.hi * (y * 0.5))
     }
+    #[inline(always)]
     fn abs(&self) -> Self {
         if self.is_negative() {
             -*self
@@ -445,11 +470,22 @@ impl Real for DoubleDouble {
             *self
         }
     }
+    #[inline(always)]
     fn sin(&self) -> Self {
         self.sin_cos().0
     }
+    #[inline(always)]
     fn cos(&self) -> Self {
         self.sin_cos().1
+    }
+    /// Both from one reduction and one series (the default would run [`Self::sin_cos`] twice).
+    #[inline(always)]
+    fn sin_cos(&self) -> (Self, Self) {
+        DoubleDouble::sin_cos(self)
+    }
+    #[inline(always)]
+    fn square(&self) -> Self {
+        self.sqr()
     }
     fn atan2(&self, x: &Self) -> Self {
         let y = self;
@@ -718,11 +754,7 @@ mod tests {
         use rug::float::Constant;
         let pi = Float::with_val(400, Constant::Pi);
         let ln2 = Float::with_val(400, Constant::Log2);
-        for (parts, reference) in [
-            (PI, pi.clone()),
-            (PI_2, Float::with_val(400, &pi / 2u32)),
-            (LN2, ln2),
-        ] {
+        for (parts, reference) in [(PI, pi.clone()), (LN2, ln2)] {
             let mut sum = Float::with_val(400, 0);
             for p in parts {
                 sum += p;
