@@ -402,27 +402,43 @@ impl<T: Real> SeparatedVariable<T> {
         let v = (up(&self.lambda_v) * &wl + up(&self.mu_v) * &wm) * &inv_den;
         let inv_den = inv_den.abs();
         let radical = |shape: &RadicalShape<T>| -> S {
-            let mut sign = up(&shape.sigma);
+            // sn, cn or sn·cn from the active factors; σ = ±1 applied as a sign at the end (the
+            // same bits as the product by σ, without it).
+            let mut sign: Option<S> = None;
             let mut passive: Option<S> = None;
             for fac in &shape.factors {
-                match fac {
-                    Factor::Lambda { .. } => sign *= sn,
-                    Factor::Mu { .. } => sign *= cn,
+                let active = match fac {
+                    Factor::Lambda { .. } => sn,
+                    Factor::Mu { .. } => cn,
                     Factor::Passive { at_lambda, at_mu } => {
                         let num = (up(at_lambda) * &wl + up(at_mu) * &wm).abs();
                         passive = Some(match passive {
                             None => num,
                             Some(p) => p * num,
                         });
+                        continue;
                     }
-                }
+                };
+                sign = Some(match sign {
+                    None => active.clone(),
+                    Some(x) => x * active,
+                });
             }
             let root = match (&shape.root_scale, passive) {
                 (Some(r), _) => up(r),
                 (None, Some(p)) => (p * up(&shape.scale)).sqrt(),
                 (None, None) => up(&shape.scale).sqrt(),
             };
-            sign * root * &inv_den
+            let mut value = match sign {
+                Some(x) => x * root,
+                None => root,
+            };
+            value *= &inv_den;
+            if shape.sigma.to_f64() < 0.0 {
+                -value
+            } else {
+                value
+            }
         };
         SeparatedPoint {
             f: radical(&self.shapes[0]),
