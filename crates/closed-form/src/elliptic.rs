@@ -95,6 +95,7 @@ impl<T: Real> EllipticModulus<T> {
     }
 
     /// (sn u, cn u, dn u).
+    #[inline(always)]
     pub fn sn_cn_dn(&self, u: &T) -> (T, T, T) {
         let (sn, cn, dn) = self.evaluate(u, true);
         (sn, cn, dn.unwrap_or_else(|| u.one_like()))
@@ -102,12 +103,14 @@ impl<T: Real> EllipticModulus<T> {
 
     /// (sn u, cn u): [`Self::sn_cn_dn`] without the last level's dn (one division less), the
     /// same sn and cn bit for bit.
+    #[inline(always)]
     pub fn sn_cn(&self, u: &T) -> (T, T) {
         let (sn, cn, _) = self.evaluate(u, false);
         (sn, cn)
     }
 
     /// sn, cn and, if `want_dn`, dn (always from the circular and Landen branches).
+    #[inline(always)]
     fn evaluate(&self, u: &T, want_dn: bool) -> (T, T, Option<T>) {
         let n = self.a.len() - 1;
         if n == 0 {
