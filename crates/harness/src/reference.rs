@@ -171,10 +171,11 @@ impl ReferenceTable {
     /// finite, or not finite in f64, is an error naming where it appeared, never a number.
     pub fn row(&self, t: f64) -> Result<Vec<Float>, String> {
         let tf = Float::with_val(self.bits, t);
-        let s = self.analysis.exact_state(&tf);
+        // ω, α, β alone (not γ, Ω, Q′, Q″, ω′, ω″): the same values as the whole state's.
+        let b = self.analysis.motion().body_at(&tf);
         let mut row = Vec::with_capacity(COLUMNS.len());
         row.push(tf);
-        row.extend(s.to_array());
+        row.extend(b.omega.into_iter().chain(b.alpha).chain(b.beta));
         row.extend(self.integrals.iter().cloned());
         if let Some(c) = row
             .iter()
