@@ -97,17 +97,34 @@ impl<T: Real> EllipticModulus<T> {
     /// (sn u, cn u, dn u).
     #[inline(always)]
     pub fn sn_cn_dn(&self, u: &T) -> (T, T, T) {
+        let (sn, cn, dn) = self.evaluate(u, true);
+        (sn, cn, dn.unwrap_or_else(|| u.one_like()))
+    }
+
+    /// (sn u, cn u): [`Self::sn_cn_dn`] without the last level's dn (one division less), the
+    /// same sn and cn bit for bit.
+    #[inline(always)]
+    pub fn sn_cn(&self, u: &T) -> (T, T) {
+        let (sn, cn, _) = self.evaluate(u, false);
+        (sn, cn)
+    }
+
+    /// sn, cn and, if `want_dn`, dn (always from the circular and Landen branches).
+    #[inline(always)]
+    fn evaluate(&self, u: &T, want_dn: bool) -> (T, T, Option<T>) {
         let n = self.a.len() - 1;
         if n == 0 {
             // k = 0 to working precision: circular functions.
-            return (u.sin(), u.cos(), u.one_like());
+            return (u.sin(), u.cos(), Some(u.one_like()));
         }
         // Bulirsch: with the AGM mean c = a_N, sin(cu) and cos(cu), then the recursion below.
         let c_agm = &self.a[n];
         let uc = u.clone() * c_agm;
         let (s, co) = uc.sin_cos();
-        if s.abs() < u.lit(1e-30) {
-            return self.landen(u);
+        // |sin| below 1e-30 (compared in f64: no numbers made for it).
+        if s.to_f64().abs() < 1e-30 {
+            let (sn, cn, dn) = self.landen(u);
+            return (sn, cn, Some(dn));
         }
         let one = u.one_like();
         let mut a = co / &s;
@@ -117,6 +134,11 @@ impl<T: Real> EllipticModulus<T> {
         let mut den = one.clone();
         for i in (1..=n).rev() {
             // em[i] = a_{i-1}, en[i] = b_{i-1} of the AGM of (1, k′).
+            if i == 1 && !want_dn {
+                // The last level's a and dn serve only dn.
+                c *= &dn;
+                break;
+            }
             a *= &c;
             c *= &dn;
             // dn = (b_{i−1} + a)/(a_{i−1} + a)
@@ -125,16 +147,18 @@ impl<T: Real> EllipticModulus<T> {
             den.clone_from(&a);
             den += &self.a[i - 1];
             dn /= &den;
-            // a = c/a_{i−1}
-            a.clone_from(&c);
-            a *= &self.inv_a[i - 1];
+            if i > 1 {
+                // a = c/a_{i−1}
+                a.clone_from(&c);
+                a *= &self.inv_a[i - 1];
+            }
         }
         let mut mag = c.square();
         mag += &one;
         let mag = one / mag.sqrt();
         let sn = if s >= s.zero_like() { mag } else { -mag };
         let cn = c * &sn;
-        (sn, cn, dn)
+        (sn, cn, want_dn.then_some(dn))
     }
 
     /// The inverse of [`Self::sn_cn_dn`]: the u ∈ [0, 4K) with (sn u, cn u) = (s, c)/√(s² + c²).
@@ -205,6 +229,8 @@ mod tests {
             let m = EllipticModulus::new(f(k2), kc2);
             for &u in &[0.1, 0.7, 1.9, 3.3, -2.2] {
                 let (s, c, d) = m.sn_cn_dn(&f(u));
+                // sn_cn skips the last dn: the same sn and cn, bit for bit.
+                assert_eq!(m.sn_cn(&f(u)), (s.clone(), c.clone()), "k2={k2} u={u}");
                 let one = f(1.0);
                 let e1 = (s.clone() * &s + c.clone() * &c - &one).abs();
                 let e2 = (d.clone() * &d + f(k2) * s.clone() * &s - &one).abs();
@@ -242,6 +268,7 @@ mod tests {
         assert!((m.u_of(&s, &(-c)) - f(0.4)).abs() > 1.0);
         let m64 = EllipticModulus::new(0.5f64, 0.5);
         let (s, c, _) = m64.sn_cn_dn(&2.5);
+        assert_eq!(m64.sn_cn(&2.5), (s, c));
         assert!((m64.u_of(&s, &c) - 2.5).abs() < 1e-14);
     }
 

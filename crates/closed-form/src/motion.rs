@@ -260,8 +260,8 @@ impl<T: Scalar> ExplicitMotion<T> {
     #[inline(always)]
     pub fn body_at(&self, t: &T) -> BodyState<T> {
         let [u1, u2] = self.u_at(t);
-        let (sn1, cn1, _) = self.first.modulus.sn_cn_dn(&u1);
-        let (sn2, cn2, _) = self.second.modulus.sn_cn_dn(&u2);
+        let (sn1, cn1) = self.first.modulus.sn_cn(&u1);
+        let (sn2, cn2) = self.second.modulus.sn_cn(&u2);
         let p1 = self.first.eval::<T>(&sn1, &cn1);
         let p2 = self.second.eval::<T>(&sn2, &cn2);
         body_state(&self.formula, &SeparatedCoordinates::new(p1, p2))
@@ -418,8 +418,8 @@ impl<T: Real> ExplicitMotion<T> {
 
     #[inline(always)]
     fn at_u(&self, u1: &T, u2: &T) -> ExplicitState<T> {
-        let (sn1, cn1, _) = self.first.modulus.sn_cn_dn(u1);
-        let (sn2, cn2, _) = self.second.modulus.sn_cn_dn(u2);
+        let (sn1, cn1) = self.first.modulus.sn_cn(u1);
+        let (sn2, cn2) = self.second.modulus.sn_cn(u2);
         let p1 = self.first.eval::<T>(&sn1, &cn1);
         let p2 = self.second.eval::<T>(&sn2, &cn2);
         explicit_state(&self.formula, SeparatedCoordinates::new(p1, p2))

@@ -433,25 +433,40 @@ struct Weights<'a, S> {
 /// (A function, not a closure, so that it inlines into the FMA build of the state.)
 #[inline(always)]
 fn radical<T: Real, S: Real + From<T>>(shape: &RadicalShape<T>, w: &Weights<'_, S>) -> S {
-    let mut sign = up::<T, S>(&shape.sigma);
+    // sn, cn or sn·cn from the active factors; σ = ±1 applied as a sign at the end (the same
+    // bits as the product by σ, without it).
+    let mut sign: Option<S> = None;
     let mut passive: Option<S> = None;
     for fac in &shape.factors {
-        match fac {
-            Factor::Lambda { .. } => sign *= w.sn,
-            Factor::Mu { .. } => sign *= w.cn,
+        let active = match fac {
+            Factor::Lambda { .. } => w.sn,
+            Factor::Mu { .. } => w.cn,
             Factor::Passive { at_lambda, at_mu } => {
                 let num = (up::<T, S>(at_lambda) * w.wl + up::<T, S>(at_mu) * w.wm).abs();
                 passive = Some(match passive {
                     None => num,
                     Some(p) => p * num,
                 });
+                continue;
             }
-        }
+        };
+        sign = Some(match sign {
+            None => active.clone(),
+            Some(x) => x * active,
+        });
     }
     let root = match (&shape.root_scale, passive) {
         (Some(r), _) => up::<T, S>(r),
         (None, Some(p)) => (p * up::<T, S>(&shape.scale)).sqrt(),
         (None, None) => up::<T, S>(&shape.scale).sqrt(),
     };
-    sign * root
+    let value = match sign {
+        Some(x) => x * root,
+        None => root,
+    };
+    if shape.sigma.to_f64() < 0.0 {
+        -value
+    } else {
+        value
+    }
 }

@@ -17,10 +17,16 @@ use crate::case::Case;
 pub const VALUES: usize = 9;
 
 /// H, K, G on N correctly rounded to f64: H = h, K = r⁴m², G = (p²h + r⁴m)/2 (seed sec. 1;
-/// `rsts_dynamics::integrals`), computed exactly (1024 bits hold every product of the f64
-/// inputs) and rounded once — so K = 0 when m = 0, and a value halfway between two f64 goes to
-/// the even one, where a state's H, K, G rounded from MPFR carry the noise of its last bits.
+/// `rsts_dynamics::integrals`), computed exactly ([`integrals_on_n_exact`]) and rounded once —
+/// so K = 0 when m = 0, and a value halfway between two f64 goes to the even one, where a
+/// state's H, K, G rounded from MPFR carry the noise of its last bits.
 pub fn integrals_on_n(case: &Case) -> [f64; 3] {
+    let [_, k, g] = integrals_on_n_exact(case);
+    [case.h, k.to_f64(), g.to_f64()]
+}
+
+/// H, K, G on N exactly, from the f64 inputs (1024 bits hold every product of them).
+pub fn integrals_on_n_exact(case: &Case) -> [Float; 3] {
     let f = |x: f64| Float::with_val(1024, x);
     let (a2, b2) = (f(case.a).square(), f(case.b).square());
     let r2 = Float::with_val(1024, &a2 - &b2);
@@ -29,7 +35,7 @@ pub fn integrals_on_n(case: &Case) -> [f64; 3] {
     let r4m = r4 * f(case.m);
     let k = Float::with_val(1024, &r4m * f(case.m));
     let g = (p2 * f(case.h) + r4m) / 2u32;
-    [case.h, k.to_f64(), g.to_f64()]
+    [f(case.h), k, g]
 }
 
 /// The closed form of a case in double-double with the calibrated bounds of its state.

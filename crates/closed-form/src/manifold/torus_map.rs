@@ -44,7 +44,7 @@ impl<T: Real> TorusMap<T> {
         let points: [SeparatedPoint<T>; 2] = std::array::from_fn(|i| {
             let v = &self.vars[i];
             let u = psi[i].clone() * v.period_u() / &two_pi;
-            let (sn, cn, _) = v.modulus.sn_cn_dn(&u);
+            let (sn, cn) = v.modulus.sn_cn(&u);
             v.eval::<T>(&sn, &cn)
         });
         let [p1, p2] = points;
