@@ -95,6 +95,7 @@ impl<T: Real> EllipticModulus<T> {
     }
 
     /// (sn u, cn u, dn u).
+    #[inline(always)]
     pub fn sn_cn_dn(&self, u: &T) -> (T, T, T) {
         let n = self.a.len() - 1;
         if n == 0 {

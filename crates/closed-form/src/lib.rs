@@ -24,5 +24,5 @@ pub mod separated;
 pub use camera::{Camera, EXAMPLE_POINTS_A1_B05};
 pub use constants::{check_ranges, IntegralConstants, SigmaCurve};
 pub use error::ClosedFormError;
-pub use formulas::ExplicitState;
-pub use motion::{ExplicitMotion, TorusChoice};
+pub use formulas::{BodyState, ExplicitState};
+pub use motion::{DdPath, ExplicitMotion, TorusChoice};

@@ -9,13 +9,17 @@ use serde::Serialize;
 use crate::camera::Camera;
 use crate::constants::IntegralConstants;
 use crate::error::ClosedFormError;
-use crate::formulas::{explicit_state, ExplicitState, FormulaConstants, SeparatedCoordinates};
+use crate::formulas::{
+    body_state, explicit_state, BodyState, ExplicitState, FormulaConstants, SeparatedCoordinates,
+};
 use crate::roots::Root;
 use crate::scalar::{Scalar, GUARD_BITS};
 use crate::separated::{segments, SeparatedVariable};
 
+mod fast;
 mod phase;
 pub mod symmetry;
+pub use fast::DdPath;
 use phase::PhaseClock;
 pub use phase::F64_CLOCK_MAX_T;
 
@@ -160,6 +164,7 @@ impl<T: Scalar> ExplicitMotion<T> {
     /// [`GUARD_BITS`] extra bits: from f64 expansions at f64 precision (bit for bit the MPFR
     /// reduction, see `motion/phase.rs`) and in double-double (for an f64 time), in MPFR
     /// otherwise.
+    #[inline(always)]
     fn u_at(&self, t: &T) -> [T; 2] {
         match &self.clock {
             Some(clock) => {
@@ -245,9 +250,21 @@ impl<T: Scalar> ExplicitMotion<T> {
     }
 
     /// The state at time t.
+    #[inline(always)]
     pub fn at(&self, t: &T) -> ExplicitState<T> {
         let [u1, u2] = self.u_at(t);
         self.at_u(&u1, &u2)
+    }
+
+    /// ω, α, β at time t (the state of [`Self::at`] without γ, Ω, Q′, Q″, ω′, ω″).
+    #[inline(always)]
+    pub fn body_at(&self, t: &T) -> BodyState<T> {
+        let [u1, u2] = self.u_at(t);
+        let (sn1, cn1, _) = self.first.modulus.sn_cn_dn(&u1);
+        let (sn2, cn2, _) = self.second.modulus.sn_cn_dn(&u2);
+        let p1 = self.first.eval::<T>(&sn1, &cn1);
+        let p2 = self.second.eval::<T>(&sn2, &cn2);
+        body_state(&self.formula, &SeparatedCoordinates::new(p1, p2))
     }
 
     /// The state at time t with its time derivative (dual parts), by the chain rule through the
@@ -399,6 +416,7 @@ impl<T: Real> ExplicitMotion<T> {
         self.at_u(&u1, &u2)
     }
 
+    #[inline(always)]
     fn at_u(&self, u1: &T, u2: &T) -> ExplicitState<T> {
         let (sn1, cn1, _) = self.first.modulus.sn_cn_dn(u1);
         let (sn2, cn2, _) = self.second.modulus.sn_cn_dn(u2);

@@ -393,41 +393,65 @@ impl<T: Real> SeparatedVariable<T> {
     /// R = σ·(sn or cn per active factor)·√(scale·Π|passive numerators|)/|den|, where the
     /// constant `scale` (and its root when both factors are active) is computed once with the
     /// motion. One division and at most one square root per radical.
+    #[inline(always)]
     pub fn eval<S: Real + From<T>>(&self, sn: &S, cn: &S) -> SeparatedPoint<S> {
-        let up = |x: &T| S::from(x.clone());
-        let wl = up(&self.lk_mu) * cn * cn;
-        let wm = up(&self.lk_lambda) * sn * sn;
+        let wl = up::<T, S>(&self.lk_mu) * cn * cn;
+        let wm = up::<T, S>(&self.lk_lambda) * sn * sn;
         let den = wl.clone() + &wm;
         let inv_den = den.one_like() / &den;
-        let v = (up(&self.lambda_v) * &wl + up(&self.mu_v) * &wm) * &inv_den;
+        let v = (up::<T, S>(&self.lambda_v) * &wl + up::<T, S>(&self.mu_v) * &wm) * &inv_den;
         let inv_den = inv_den.abs();
-        let radical = |shape: &RadicalShape<T>| -> S {
-            let mut sign = up(&shape.sigma);
-            let mut passive: Option<S> = None;
-            for fac in &shape.factors {
-                match fac {
-                    Factor::Lambda { .. } => sign *= sn,
-                    Factor::Mu { .. } => sign *= cn,
-                    Factor::Passive { at_lambda, at_mu } => {
-                        let num = (up(at_lambda) * &wl + up(at_mu) * &wm).abs();
-                        passive = Some(match passive {
-                            None => num,
-                            Some(p) => p * num,
-                        });
-                    }
-                }
-            }
-            let root = match (&shape.root_scale, passive) {
-                (Some(r), _) => up(r),
-                (None, Some(p)) => (p * up(&shape.scale)).sqrt(),
-                (None, None) => up(&shape.scale).sqrt(),
-            };
-            sign * root * &inv_den
+        let w = Weights {
+            sn,
+            cn,
+            wl: &wl,
+            wm: &wm,
         };
         SeparatedPoint {
-            f: radical(&self.shapes[0]),
-            g: radical(&self.shapes[1]),
+            f: radical(&self.shapes[0], &w) * &inv_den,
+            g: radical(&self.shapes[1], &w) * &inv_den,
             v,
         }
     }
+}
+
+/// A constant of the motion in the evaluation scalar.
+#[inline(always)]
+fn up<T: Clone, S: From<T>>(x: &T) -> S {
+    S::from(x.clone())
+}
+
+/// sn, cn and the weights w_λ, w_μ of a point (see [`SeparatedVariable::eval`]).
+struct Weights<'a, S> {
+    sn: &'a S,
+    cn: &'a S,
+    wl: &'a S,
+    wm: &'a S,
+}
+
+/// A radical times |den|: σ·(sn or cn per active factor)·√(scale·Π|passive numerators|).
+/// (A function, not a closure, so that it inlines into the FMA build of the state.)
+#[inline(always)]
+fn radical<T: Real, S: Real + From<T>>(shape: &RadicalShape<T>, w: &Weights<'_, S>) -> S {
+    let mut sign = up::<T, S>(&shape.sigma);
+    let mut passive: Option<S> = None;
+    for fac in &shape.factors {
+        match fac {
+            Factor::Lambda { .. } => sign *= w.sn,
+            Factor::Mu { .. } => sign *= w.cn,
+            Factor::Passive { at_lambda, at_mu } => {
+                let num = (up::<T, S>(at_lambda) * w.wl + up::<T, S>(at_mu) * w.wm).abs();
+                passive = Some(match passive {
+                    None => num,
+                    Some(p) => p * num,
+                });
+            }
+        }
+    }
+    let root = match (&shape.root_scale, passive) {
+        (Some(r), _) => up::<T, S>(r),
+        (None, Some(p)) => (p * up::<T, S>(&shape.scale)).sqrt(),
+        (None, None) => up::<T, S>(&shape.scale).sqrt(),
+    };
+    sign * root
 }

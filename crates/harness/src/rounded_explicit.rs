@@ -58,11 +58,8 @@ impl RoundedExplicit {
         };
         if let Some(dd) = &me.dd {
             let times = calibration_times(dd.periods().map(|p| p.to_f64()));
-            me.bounds = RoundingBounds::calibrate(
-                &times,
-                |t| values(&dd.at(&DoubleDouble::from_f64_exact(t))),
-                |t| me.mp_values(t),
-            );
+            me.bounds =
+                RoundingBounds::calibrate(&times, |t| values(&dd.at_f64(t)), |t| me.mp_values(t));
         }
         Ok(me)
     }
@@ -81,10 +78,7 @@ impl RoundedExplicit {
     pub fn row(&self, t: f64) -> [f64; EXPLICIT_VALUES] {
         self.dd
             .as_ref()
-            .and_then(|dd| {
-                self.bounds
-                    .round(&values(&dd.at(&DoubleDouble::from_f64_exact(t))))
-            })
+            .and_then(|dd| self.bounds.round(&values(&dd.at_f64(t))))
             .unwrap_or_else(|| self.row_mpfr(t))
     }
 }

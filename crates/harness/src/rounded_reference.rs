@@ -7,7 +7,7 @@
 use rug::Float;
 
 use rsts_closed_form::rounded::{calibration_times, RoundingBounds};
-use rsts_closed_form::{ExplicitMotion, TorusChoice};
+use rsts_closed_form::{BodyState, DdPath, ExplicitMotion, TorusChoice};
 use rsts_dynamics::scalar::DoubleDouble;
 use rsts_dynamics::{Real, State};
 
@@ -69,14 +69,21 @@ impl DdReference {
         self.state(t).to_array()
     }
 
-    /// The state at time t in double-double.
+    /// The state at time t in double-double (on the FMA build where the CPU has it).
     pub fn state(&self, t: f64) -> State<DoubleDouble> {
-        let e = self.motion.at(&DoubleDouble::from_f64_exact(t));
-        State {
-            omega: e.omega,
-            alpha: e.alpha,
-            beta: e.beta,
-        }
+        body(self.motion.body_at_f64(t))
+    }
+
+    /// [`Self::values`] on a given build of the double-double state ([`DdPath`]), `None` when
+    /// this CPU lacks it.
+    pub fn values_on(&self, path: DdPath, t: f64) -> Option<[DoubleDouble; VALUES]> {
+        Some(body(self.motion.body_at_f64_on(path, t)?).to_array())
+    }
+
+    /// [`Self::rounded`] on a given build of the double-double state; `None` when this CPU
+    /// lacks it.
+    pub fn rounded_on(&self, path: DdPath, t: f64) -> Option<Option<[f64; VALUES]>> {
+        Some(self.bounds.round(&self.values_on(path, t)?))
     }
 
     /// The state at time t correctly rounded to f64, or `None` where Ziv's test cannot
@@ -93,5 +100,14 @@ impl DdReference {
     /// The calibrated absolute error bound of each value.
     pub fn bounds(&self) -> &[f64; VALUES] {
         &self.bounds.bounds
+    }
+}
+
+/// ω, α, β as a state.
+fn body(b: BodyState<DoubleDouble>) -> State<DoubleDouble> {
+    State {
+        omega: b.omega,
+        alpha: b.alpha,
+        beta: b.beta,
     }
 }

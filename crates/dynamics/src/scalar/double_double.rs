@@ -41,7 +41,7 @@ pub struct DoubleDouble {
 }
 
 /// Error-free sum: s + e = a + b exactly, s = fl(a + b) (Knuth's TwoSum, 6 flops, any order).
-#[inline]
+#[inline(always)]
 pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
@@ -50,7 +50,7 @@ pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
 }
 
 /// Error-free sum for |a| ≥ |b| (Dekker's FastTwoSum, 3 flops).
-#[inline]
+#[inline(always)]
 pub fn quick_two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let e = b - (s - a);
@@ -58,7 +58,7 @@ pub fn quick_two_sum(a: f64, b: f64) -> (f64, f64) {
 }
 
 /// Error-free product: p + e = a·b exactly, p = fl(a·b), with one fused multiply-add.
-#[inline]
+#[inline(always)]
 pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
     let e = a.mul_add(b, -p);
@@ -115,18 +115,21 @@ impl DoubleDouble {
         Self { hi: x, lo: 0.0 }
     }
 
+    #[inline(always)]
     fn from_quick(a: f64, b: f64) -> Self {
         let (hi, lo) = quick_two_sum(a, b);
         Self { hi, lo }
     }
 
     /// The sum of two f64, exactly.
+    #[inline(always)]
     pub fn sum_f64(a: f64, b: f64) -> Self {
         let (hi, lo) = two_sum(a, b);
         Self { hi, lo }
     }
 
     /// The product of two f64, exactly.
+    #[inline(always)]
     pub fn prod_f64(a: f64, b: f64) -> Self {
         let (hi, lo) = two_prod(a, b);
         Self { hi, lo }
@@ -165,18 +168,21 @@ impl DoubleDouble {
     }
 
     /// self + b for an f64 b.
+    #[inline(always)]
     pub fn add_f64(self, b: f64) -> Self {
         let (s, e) = two_sum(self.hi, b);
         Self::from_quick(s, e + self.lo)
     }
 
     /// self · b for an f64 b.
+    #[inline(always)]
     pub fn mul_f64(self, b: f64) -> Self {
         let (p, e) = two_prod(self.hi, b);
         Self::from_quick(p, self.lo.mul_add(b, e))
     }
 
     /// self / b for an f64 b.
+    #[inline(always)]
     pub fn div_f64(self, b: f64) -> Self {
         let q1 = self.hi / b;
         let r = self - Self::prod_f64(q1, b);
@@ -187,16 +193,19 @@ impl DoubleDouble {
     }
 
     /// self².
+    #[inline(always)]
     pub fn sqr(self) -> Self {
         let (p, e) = two_prod(self.hi, self.hi);
         let e = (2.0 * self.hi).mul_add(self.lo, e);
         Self::from_quick(p, e)
     }
 
+    #[inline(always)]
     fn is_zero(&self) -> bool {
         self.hi == 0.0
     }
 
+    #[inline(always)]
     fn is_negative(&self) -> bool {
         self.hi < 0.0 || (self.hi == 0.0 && self.hi.is_sign_negative())
     }
@@ -210,6 +219,7 @@ impl DoubleDouble {
 
     /// x − j·π/2 with π/2 in three parts and j·p₀, j·p₁ exact: accurate to 2⁻¹⁰⁶ relative to the
     /// result for |j| < 2⁵⁰.
+    #[inline(always)]
     fn reduce_pi_2(self, j: f64) -> Self {
         let r = self - Self::prod_f64(j, PI_2[0]);
         let r = r - Self::prod_f64(j, PI_2[1]);
@@ -219,6 +229,7 @@ impl DoubleDouble {
     /// (sin r, cos r) for |r| ≤ π/4: r = kπ/16 + t with |t| ≤ π/32, sin t by its Taylor
     /// polynomial to t¹⁹ (Horner in t², coefficients 1/n! to 106 bits), cos t = √(1 − sin²t),
     /// then the angle-sum formulas with sin, cos of kπ/16 from a table (QD's method).
+    #[inline(always)]
     fn sin_cos_reduced(r: Self) -> (Self, Self) {
         if r.is_zero() {
             return (r, Self::ONE);
@@ -247,6 +258,7 @@ impl DoubleDouble {
     }
 
     /// (sin x, cos x).
+    #[inline(always)]
     pub fn sin_cos(&self) -> (Self, Self) {
         if !self.hi.is_finite() {
             return (Self::nan(), Self::nan());
@@ -315,6 +327,7 @@ impl PartialOrd for DoubleDouble {
 
 impl Neg for DoubleDouble {
     type Output = Self;
+    #[inline(always)]
     fn neg(self) -> Self {
         Self {
             hi: -self.hi,
@@ -326,7 +339,7 @@ impl Neg for DoubleDouble {
 impl Add for DoubleDouble {
     type Output = Self;
     /// Accurate double-double sum (QD's `ieee_add`).
-    #[inline]
+    #[inline(always)]
     fn add(self, b: Self) -> Self {
         let (s, e) = two_sum(self.hi, b.hi);
         let (t, f) = two_sum(self.lo, b.lo);
@@ -337,7 +350,7 @@ impl Add for DoubleDouble {
 
 impl Sub for DoubleDouble {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn sub(self, b: Self) -> Self {
         self + (-b)
     }
@@ -345,7 +358,7 @@ impl Sub for DoubleDouble {
 
 impl Mul for DoubleDouble {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn mul(self, b: Self) -> Self {
         let (p, e) = two_prod(self.hi, b.hi);
         let e = self.hi.mul_add(b.lo, self.lo.mul_add(b.hi, e));
@@ -356,6 +369,7 @@ impl Mul for DoubleDouble {
 impl Div for DoubleDouble {
     type Output = Self;
     /// Long division with three f64 quotient digits (QD's accurate division).
+    #[inline(always)]
     fn div(self, b: Self) -> Self {
         let q1 = self.hi / b.hi;
         let r = self - b.mul_f64(q1);
@@ -370,19 +384,19 @@ macro_rules! forward_ops {
     ($($tr:ident $m:ident $atr:ident $am:ident),*) => {$(
         impl<'a> $tr<&'a DoubleDouble> for DoubleDouble {
             type Output = DoubleDouble;
-            #[inline]
+            #[inline(always)]
             fn $m(self, o: &'a DoubleDouble) -> DoubleDouble {
                 $tr::$m(self, *o)
             }
         }
         impl $atr for DoubleDouble {
-            #[inline]
+            #[inline(always)]
             fn $am(&mut self, o: DoubleDouble) {
                 *self = $tr::$m(*self, o);
             }
         }
         impl<'a> $atr<&'a DoubleDouble> for DoubleDouble {
-            #[inline]
+            #[inline(always)]
             fn $am(&mut self, o: &'a DoubleDouble) {
                 *self = $tr::$m(*self, *o);
             }
@@ -422,6 +436,7 @@ impl Real for DoubleDouble {
     fn epsilon(&self) -> Self {
         Self::EPSILON
     }
+    #[inline(always)]
     fn sqrt(&self) -> Self {
         if self.is_zero() {
             return *self;
@@ -438,6 +453,7 @@ impl Real for DoubleDouble {
         let r = *self - Self::prod_f64(ay, ay);
         Self::from_f64_exact(ay).add_f64(r.hi * (y * 0.5))
     }
+    #[inline(always)]
     fn abs(&self) -> Self {
         if self.is_negative() {
             -*self
@@ -445,11 +461,22 @@ impl Real for DoubleDouble {
             *self
         }
     }
+    #[inline(always)]
     fn sin(&self) -> Self {
         self.sin_cos().0
     }
+    #[inline(always)]
     fn cos(&self) -> Self {
         self.sin_cos().1
+    }
+    /// Both from one reduction and one series (the default would run [`Self::sin_cos`] twice).
+    #[inline(always)]
+    fn sin_cos(&self) -> (Self, Self) {
+        DoubleDouble::sin_cos(self)
+    }
+    #[inline(always)]
+    fn square(&self) -> Self {
+        self.sqr()
     }
     fn atan2(&self, x: &Self) -> Self {
         let y = self;

@@ -1,0 +1,84 @@
+//! The two builds of the double-double state (FMA instructions, chosen at run time, and the
+//! portable build for any x86-64) give the same bits: every double-double value and every
+//! correctly rounded f64 row, in the nine cameras of a = 1, b = 0.5 and within 1e-9 of Σ, at
+//! random times up to 1e9. Skipped (with a message) on a CPU without FMA, where only the
+//! portable build runs.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rug::Float;
+
+use rsts_closed_form::{DdPath, ExplicitMotion, TorusChoice, EXAMPLE_POINTS_A1_B05};
+use rsts_harness::rounded_reference::DdReference;
+use rsts_harness::Case;
+
+/// The reference of a case in double-double, calibrated against MPFR at 164 bits.
+fn reference(m: f64, h: f64) -> DdReference {
+    let case = Case {
+        m,
+        h,
+        phase1: 0.7,
+        phase2: 2.1,
+        ..Case::default_i_plus()
+    };
+    let f = |x: f64| Float::with_val(164, x);
+    let choice = TorusChoice {
+        torus: 0,
+        phase1: case.phase1,
+        phase2: case.phase2,
+    };
+    let mp = ExplicitMotion::new_until(f(case.a), f(case.b), f(m), f(h), choice, 1e9).unwrap();
+    DdReference::new(&case, 1e9, |t| {
+        let s = mp.at(&f(t));
+        let v = [&s.omega, &s.alpha, &s.beta];
+        std::array::from_fn(|k| v[k / 3][k % 3].clone())
+    })
+    .unwrap()
+}
+
+#[test]
+fn fma_and_portable_double_double_give_the_same_bits() {
+    assert!(DdPath::Portable.available());
+    if !DdPath::Fma.available() {
+        rsts_io::report_skip(
+            "fma_and_portable_double_double_give_the_same_bits",
+            "this CPU has no FMA: only the portable build runs",
+        );
+        return;
+    }
+    let mut points: Vec<(f64, f64)> = EXAMPLE_POINTS_A1_B05
+        .iter()
+        .map(|(_, m, h)| (*m, *h))
+        .collect();
+    points.push((0.0, 1.0 - 1e-9));
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let mut rows = 0;
+    for (m, h) in points {
+        let dd = reference(m, h);
+        for k in 0..4000 {
+            let t = match k % 3 {
+                0 => rng.gen_range(0.0..1e9),
+                1 => rng.gen_range(-1e3..1e3),
+                _ => 1e9 * rng.gen::<f64>().powi(8),
+            };
+            let fma = dd.values_on(DdPath::Fma, t).unwrap();
+            let portable = dd.values_on(DdPath::Portable, t).unwrap();
+            let bits = |v: &[_; 9]| {
+                v.map(|x: rsts_dynamics::scalar::DoubleDouble| (x.hi.to_bits(), x.lo.to_bits()))
+            };
+            assert_eq!(bits(&fma), bits(&portable), "m = {m}, h = {h}, t = {t:e}");
+            let (a, b) = (
+                dd.rounded_on(DdPath::Fma, t).unwrap(),
+                dd.rounded_on(DdPath::Portable, t).unwrap(),
+            );
+            assert_eq!(
+                a.map(|r| r.map(f64::to_bits)),
+                b.map(|r| r.map(f64::to_bits))
+            );
+            // The default path is the FMA one here.
+            assert_eq!(dd.rounded(t), a);
+            rows += usize::from(a.is_some());
+        }
+    }
+    assert!(rows > 39_000, "{rows} rows decided in double-double");
+}
