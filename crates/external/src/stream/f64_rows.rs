@@ -9,7 +9,8 @@ use rsts_harness::{CheckStream, Observer};
 use super::{csv_line, line_text, too_many, Rows, Survey, TrajectoryReader, CHUNK_ROWS};
 use crate::files::{npy_row, unquote, CsvHeader, COLUMNS};
 use crate::samples::{
-    check_component, comes_after, not_after, text_f64, Number, RawTrajectory, F64_TEXT_DIGITS,
+    check_component, comes_after, not_after, significant_digits, text_f64, Number, RawTrajectory,
+    F64_TEXT_DIGITS,
 };
 
 /// Samples read as f64 numbers: times and states (ω, α, β).
@@ -158,13 +159,27 @@ impl TrajectoryReader {
         Ok(true)
     }
 
-    /// The survey of a file read through as f64 ([`TrajectoryReader::open_surveyed`]).
+    /// The survey of a file read through as f64 ([`TrajectoryReader::open_surveyed`]). A CSV
+    /// is only scanned: the digits of its values counted and its times read; the values are
+    /// checked when the rows are read for the analysis.
     pub(super) fn survey_f64(&mut self) -> Result<Survey, String> {
         let mut survey = Survey {
             rows: None,
             digits: 0,
             extent: 0.0,
         };
+        if let Rows::Csv { .. } = self.rows {
+            let name = &self.name;
+            let rows = self
+                .rows
+                .scan_csv(&mut survey)
+                .map_err(|e| format!("{name}: {e}"))?;
+            if rows == 0 {
+                return Err(format!("{name}: no samples"));
+            }
+            survey.rows = Some(rows);
+            return Ok(survey);
+        }
         let mut chunk = F64Chunk::default();
         while self.next_chunk_f64(&mut chunk)? {
             survey.digits = survey.digits.max(chunk.digits);
@@ -179,6 +194,42 @@ impl TrajectoryReader {
 }
 
 impl Rows {
+    /// Scan the rest of a CSV: the most digits of a value and the largest |t| into `survey`,
+    /// and the rows (lines that are neither blank nor comments).
+    fn scan_csv(&mut self, survey: &mut Survey) -> Result<usize, String> {
+        let Rows::Csv {
+            input,
+            header,
+            line,
+            buf,
+        } = self
+        else {
+            return Ok(0);
+        };
+        let mut rows = 0;
+        while let Some(k) = csv_line(input, header, line, buf)? {
+            let h = header.as_ref().expect("read before the rows");
+            let text = line_text(buf, k)?;
+            if text.trim().is_empty() || text.trim_start().starts_with('#') {
+                continue;
+            }
+            rows += 1;
+            for (i, field) in text.split(',').enumerate() {
+                let Some(c) = h.index.iter().position(|&j| j == i) else {
+                    continue;
+                };
+                let value = unquote(field).trim();
+                survey.digits = survey.digits.max(significant_digits(value));
+                if c == 0 {
+                    if let Ok(t) = value.parse::<f64>() {
+                        survey.extent = survey.extent.max(t.abs());
+                    }
+                }
+            }
+        }
+        Ok(rows)
+    }
+
     /// [`Rows::next_row`] into `row`: its place, `None` after the last row.
     fn next_row_f64(&mut self, row: &mut Row) -> Result<Option<Place>, String> {
         match self {
