@@ -30,7 +30,6 @@ const EXIT_ERROR: u8 = 2;
 const EXIT_FAILED: u8 = 1;
 /// Exit code of `rsts inspect` when only part of a damaged file could be read.
 const EXIT_RECOVERED: u8 = 3;
-use interrupt::EXIT_INTERRUPTED;
 
 const TOP_EXAMPLES: &str = "\
 Examples:
@@ -175,7 +174,7 @@ fn main() -> ExitCode {
             if e.downcast_ref::<inspect::Recovered>().is_some() {
                 ExitCode::from(EXIT_RECOVERED)
             } else if e.downcast_ref::<compare::Interrupted>().is_some() {
-                ExitCode::from(EXIT_INTERRUPTED)
+                ExitCode::from(interrupt::exit_code())
             } else if e.downcast_ref::<validate::Failed>().is_some()
                 || e.downcast_ref::<identify::NotOnN>().is_some()
             {

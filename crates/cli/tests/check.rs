@@ -4,24 +4,11 @@
 //! every bad file named with its row and column.
 
 use std::path::Path;
-use std::process::Output;
 
 use serde_json::Value;
 
 mod common;
-use common::{exit_2, fails, rsts, stderr, stdout, tmp};
-
-fn ok(args: &[&str]) -> Output {
-    let out = rsts(args);
-    assert!(out.status.success(), "{args:?}: {}", stderr(&out));
-    out
-}
-
-fn json_of(args: &[&str]) -> Value {
-    let mut all = args.to_vec();
-    all.extend_from_slice(&["--format", "json"]);
-    serde_json::from_slice(&ok(&all).stdout).expect("one JSON document")
-}
+use common::{exit_2, fails, json_of, ok, rsts, stderr, stdout, tmp, write};
 
 /// The start state of a motion (the first row of `rsts reference`), as --omega/--alpha/--beta.
 fn start(motion: &[&str], t: &str) -> [String; 3] {
@@ -49,12 +36,6 @@ fn integrate(motion: &[&str], extra: &[&str]) -> (String, String) {
     let mut json = args;
     json.extend_from_slice(&["--format", "json"]);
     (stdout(&ok(&csv)), stdout(&ok(&json)))
-}
-
-fn write(name: &str, bytes: &[u8]) -> String {
-    let p = tmp(name);
-    std::fs::write(&p, bytes).unwrap();
-    p.to_str().unwrap().to_string()
 }
 
 /// integrate's JSON as an npy array (N, 10) written by rsts-external's npy writer.

@@ -8,32 +8,8 @@ mod common;
 use std::io::Write;
 use std::process::{Command, Stdio};
 
-use common::{exit_2, rsts, s, tmp};
+use common::{camera_v_dopri5_csv, exit_2, json_doc, rsts, s, tmp};
 use rsts_external::stream::CHUNK_ROWS;
-
-/// A dopri5 run of camera V (an error that grows), `n` samples, as CSV.
-fn trajectory(n: usize) -> Vec<u8> {
-    let out = rsts(&[
-        "integrate",
-        "--omega=-1.0788400339538464,-0.3702277283006931,0",
-        "--alpha=-0.5266712206715436,-0.8500690709091504,0",
-        "--beta=-0.8500690709091504,0.5266712206715436,0",
-        "--t-end",
-        "400",
-        "--samples",
-        &n.to_string(),
-        "--method",
-        "dopri5",
-        "--rtol",
-        "1e-9",
-        "--atol",
-        "1e-9",
-        "--format",
-        "csv",
-    ]);
-    assert!(out.status.success(), "{}", common::stderr(&out));
-    out.stdout
-}
 
 /// `rsts check` with `input` on standard input.
 fn check_stdin(args: &[&str], input: &[u8]) -> std::process::Output {
@@ -51,15 +27,10 @@ fn check_stdin(args: &[&str], input: &[u8]) -> std::process::Output {
     child.wait_with_output().unwrap()
 }
 
-fn json(out: &std::process::Output) -> serde_json::Value {
-    assert!(out.status.success(), "{}", common::stderr(out));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
-
 #[test]
 fn a_streamed_check_reports_what_the_whole_trajectory_gives() {
     let n = 2 * CHUNK_ROWS + 1500;
-    let csv = trajectory(n);
+    let csv = camera_v_dopri5_csv("400", n);
     let path = tmp("traj.csv");
     std::fs::write(&path, &csv).unwrap();
 
@@ -87,10 +58,10 @@ fn a_streamed_check_reports_what_the_whole_trajectory_gives() {
     assert!(whole["max_state_error"].as_f64().unwrap() > 1e-9, "{whole}");
     assert!(whole["normal"]["growth"].is_object(), "{whole}");
 
-    let file = json(&rsts(&["check", s(&path), "--format", "json"]));
+    let file = json_doc(&rsts(&["check", s(&path), "--format", "json"]));
     assert_eq!(file, whole, "streamed file vs whole");
 
-    let stdin = json(&check_stdin(
+    let stdin = json_doc(&check_stdin(
         &["check", "-", "--input-format", "csv", "--format", "json"],
         &csv,
     ));
@@ -109,7 +80,7 @@ fn a_streamed_check_reports_what_the_whole_trajectory_gives() {
         .collect();
     let npy = tmp("traj.npy");
     std::fs::write(&npy, rsts_external::npy_bytes(&rows, 10)).unwrap();
-    let mut from_npy = json(&rsts(&["check", s(&npy), "--format", "json"]));
+    let mut from_npy = json_doc(&rsts(&["check", s(&npy), "--format", "json"]));
     from_npy["file"] = whole["file"].clone();
     from_npy["method"] = whole["method"].clone();
     assert_eq!(from_npy, whole, "streamed npy vs whole");
@@ -117,7 +88,7 @@ fn a_streamed_check_reports_what_the_whole_trajectory_gives() {
 
 #[test]
 fn errors_across_chunk_boundaries_name_their_line() {
-    let csv = String::from_utf8(trajectory(CHUNK_ROWS + 100)).unwrap();
+    let csv = String::from_utf8(camera_v_dopri5_csv("400", CHUNK_ROWS + 100)).unwrap();
     let mut lines: Vec<String> = csv.lines().map(str::to_string).collect();
     // The first row of the second chunk (line CHUNK_ROWS + 2) goes back in time.
     let first_of_second = CHUNK_ROWS + 1;
@@ -159,6 +130,6 @@ fn errors_across_chunk_boundaries_name_their_line() {
     // The same rows as a file are read twice: high-precision data, checked.
     let long = tmp("long.csv");
     std::fs::write(&long, &text).unwrap();
-    let v = json(&rsts(&["check", s(&long), "--format", "json"]));
+    let v = json_doc(&rsts(&["check", s(&long), "--format", "json"]));
     assert!(v["digits"].as_u64().unwrap() > 17, "{v}");
 }

@@ -5,18 +5,12 @@
 use serde_json::Value;
 
 mod common;
-use common::{adapter_rk4, exit_2, rsts_command};
+use common::{adapter_rk4, command_json, exit_2, json_doc, rsts_command};
 
 fn compare(args: &[&str]) -> Value {
-    let mut all = vec!["--t-end", "5", "--samples", "11", "--format", "json"];
+    let mut all = vec!["--t-end", "5", "--samples", "11"];
     all.extend_from_slice(args);
-    let out = rsts_command("compare", &all);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON document")
+    command_json("compare", &all)
 }
 
 fn errors(doc: &Value) -> (f64, f64) {
@@ -153,12 +147,7 @@ fn bench_rows_carry_the_dense_check() {
         "2",
     ];
     let out = rsts_command("bench", &[&args[..], &["--format", "json"]].concat());
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_doc(&out);
     let rows = doc["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 4, "{doc}");
     for row in rows {

@@ -4,18 +4,10 @@
 use serde_json::Value;
 
 mod common;
-use common::{exit_2, rsts_command};
+use common::{adapter_rk4, command_json, exit_2, json_doc, python_with, rsts_command};
 
 fn events_json(args: &[&str]) -> Value {
-    let mut all = args.to_vec();
-    all.extend_from_slice(&["--format", "json"]);
-    let out = rsts_command("events", &all);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON document")
+    command_json("events", args)
 }
 
 #[test]
@@ -107,24 +99,6 @@ fn bad_input_exits_2_naming_the_option() {
     }
 }
 
-/// The Python of scripts/install_adapters.sh when it has heyoka; `None` (skip reported) else.
-fn heyoka_python(test: &str) -> Option<String> {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let python = std::env::var("RSTS_ADAPTERS_PYTHON")
-        .unwrap_or_else(|_| root.join(".venv-adapters/bin/python").display().to_string());
-    let ok = std::process::Command::new(&python)
-        .args(["-c", "import heyoka"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok {
-        rsts_io::report_skip(
-            test,
-            "heyoka is not installed (scripts/install_adapters.sh heyoka; needs pip and PyPI)",
-        );
-    }
-    ok.then_some(python)
-}
-
 /// Done-when of docs/events.md: heyoka in MPFR at 40 digits, locating the events with its own
 /// nt_event machinery through scripts/adapters/heyoka_adapter.py, finds the same events as
 /// `rsts_closed_form::events` and the same times to 40 digits, on three cameras (V: m < 0).
@@ -134,7 +108,7 @@ fn heyoka_mpfr_event_times_agree_to_40_digits() {
     use rsts_closed_form::{ExplicitMotion, TorusChoice};
     use rsts_dynamics::Real;
     use rug::Float;
-    let Some(python) = heyoka_python("heyoka_mpfr_event_times_agree_to_40_digits") else {
+    let Some(python) = python_with("heyoka", "heyoka_mpfr_event_times_agree_to_40_digits") else {
         return;
     };
     let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -257,12 +231,7 @@ fn check_events_reports_one_missed_event_and_names_bad_lines() {
         "--format",
         "json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_doc(&out);
     let ev = &doc["events"];
     assert_eq!(ev["exact"].as_u64().unwrap() as usize, all.len(), "{ev}");
     assert_eq!(ev["missed"], 1);
@@ -305,26 +274,6 @@ fn check_events_reports_one_missed_event_and_names_bad_lines() {
     }
 }
 
-/// The example RK4 adapter: beside the rsts binary (built by `cargo test --workspace`), or built
-/// now into its own target directory (as crates/cli/tests/external.rs does).
-fn example_rk4() -> std::path::PathBuf {
-    let beside =
-        std::path::PathBuf::from(env!("CARGO_BIN_EXE_rsts")).with_file_name("example-adapter-rk4");
-    if beside.exists() {
-        return beside;
-    }
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let dir = root.join("target/adapter-build");
-    let status = std::process::Command::new(env!("CARGO"))
-        .args(["build", "--release", "--quiet", "-p", "example-adapter-rk4"])
-        .env("CARGO_TARGET_DIR", &dir)
-        .current_dir(&root)
-        .status()
-        .expect("run cargo");
-    assert!(status.success(), "cargo build -p example-adapter-rk4");
-    dir.join("release/example-adapter-rk4")
-}
-
 fn compare_events(args: &[&str]) -> Value {
     let mut all = vec![
         "--t-end",
@@ -335,17 +284,9 @@ fn compare_events(args: &[&str]) -> Value {
         "omega1",
         "--event",
         "gamma2",
-        "--format",
-        "json",
     ];
     all.extend_from_slice(args);
-    let out = rsts_command("compare", &all);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice::<Value>(&out.stdout).unwrap()["events"].clone()
+    command_json("compare", &all)["events"].clone()
 }
 
 /// compare --event: a built-in method (events located in its samples by Hermite interpolation)
@@ -363,7 +304,7 @@ fn compare_event_for_built_ins_and_an_adapter_that_drops_one() {
         built_in["max_time_error"].as_f64().unwrap() < 1e-4,
         "{built_in}"
     );
-    let rk4 = example_rk4();
+    let rk4 = adapter_rk4();
     let exec = format!("{}", rk4.display());
     let full = compare_events(&["--exec", &exec, "--rtol", "1e-10", "--atol", "1e-10"]);
     assert_eq!(full["exact"].as_u64().unwrap(), exact);
@@ -413,7 +354,7 @@ fn compare_event_for_built_ins_and_an_adapter_that_drops_one() {
 /// samples; adapter: answered); a row with a dropped event fails --max-event-error (exit 1).
 #[test]
 fn bench_event_columns_and_max_event_error() {
-    let rk4 = example_rk4();
+    let rk4 = adapter_rk4();
     let dropped = format!("{} --drop-event 0", rk4.display());
     let base = [
         "--methods",
@@ -433,12 +374,7 @@ fn bench_event_columns_and_max_event_error() {
         "bench",
         &[&base[..], &["--exec", &dropped, "--format", "json"]].concat(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_doc(&out);
     let rows = doc["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 2);
     let (ours, theirs) = (&rows[0]["events"], &rows[1]["events"]);
@@ -465,7 +401,7 @@ fn bench_event_columns_and_max_event_error() {
 #[test]
 fn compare_log_has_the_events_channels() {
     let path = common::tmp("events.mcap");
-    let dropped = format!("{} --drop-event 3", example_rk4().display());
+    let dropped = format!("{} --drop-event 3", adapter_rk4().display());
     let out = rsts_command(
         "compare",
         &[
@@ -489,27 +425,10 @@ fn compare_log_has_the_events_channels() {
             "json",
         ],
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let report = json_doc(&out);
     let exact = report["events"]["exact"].as_u64().unwrap() as usize;
-    let read = |channel: &str| {
-        let o = rsts_command(
-            "inspect",
-            &[
-                path.to_str().unwrap(),
-                "--channel",
-                channel,
-                "--format",
-                "json",
-            ],
-        );
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        serde_json::from_slice::<Value>(&o.stdout).unwrap()
-    };
+    let read =
+        |channel: &str| command_json("inspect", &[path.to_str().unwrap(), "--channel", channel]);
     let markers = read("/events/markers");
     let rows = markers["messages"]
         .as_array()

@@ -409,3 +409,44 @@ max_state_error = 1e-6
         assert!(err.contains(expect), "{text}: {err}");
     }
 }
+
+/// An adapter whose answer states no `stats.steps` (here the example adapter with the key cut
+/// from its answer) is reported with its steps not known — null in JSON, an empty CSV cell,
+/// n/a in the table — not as 0 steps; the evaluations it does state are kept.
+#[test]
+fn steps_an_adapter_does_not_state_are_not_known() {
+    let adapter = adapter_rk4();
+    let quiet = script(
+        "no-steps.sh",
+        &format!(
+            "'{}' | sed -E 's/\"steps\":[0-9]+,?//; s/,}}/}}/'",
+            adapter.display()
+        ),
+    );
+    let mut args = vec!["compare", "--exec", &quiet];
+    args.extend_from_slice(&CASE);
+    let doc = json(&args);
+    assert!(doc["steps"].is_null(), "{}", doc["steps"]);
+    assert!(doc["rejected_steps"].is_null(), "{}", doc["rejected_steps"]);
+    // The full answer: the same run with its steps (RK4: 4 evaluations a step).
+    let full = json(&[&["compare", "--exec", adapter.to_str().unwrap()][..], &CASE].concat());
+    let steps = full["steps"].as_u64().expect("the full answer's steps");
+    assert!(steps >= 2000, "{steps}");
+    assert_eq!(doc["rhs_evals"], 4 * steps, "stated evaluations are kept");
+    let csv = rsts(&[&args[..], &["--format", "csv"]].concat());
+    let text = String::from_utf8(csv.stdout).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header
+        .iter()
+        .position(|h| *h == "steps")
+        .expect("a steps column");
+    assert_eq!(row[col], "", "{text}");
+    let table = String::from_utf8(rsts(&args).stdout).unwrap();
+    let line = table
+        .lines()
+        .find(|l| l.starts_with("steps (rejected)"))
+        .expect("a steps line");
+    assert!(line.contains("n/a (n/a)"), "{line}");
+}

@@ -25,11 +25,7 @@ fn json(out: &std::process::Output) -> Value {
 
 /// (ω, α, β) of each sample of `rsts explicit … --format json` as option values.
 fn explicit_states(args: &[&str]) -> (Value, Vec<[String; 3]>) {
-    let mut all = vec!["--format", "json"];
-    all.extend_from_slice(args);
-    let out = rsts_command("explicit", &all);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let doc = json(&out);
+    let doc = command_json("explicit", args);
     let states = doc["samples"]
         .as_array()
         .unwrap()

@@ -2,14 +2,12 @@
 //! N (rows in input order across batches of 8192).
 
 mod common;
-use common::{fails, rsts, s, tmp};
+use common::{camera_v_dopri5_csv, fails, ok, s, tmp};
 
 fn run(args: &[&str], jobs: &str) -> Vec<u8> {
     let mut all = args.to_vec();
     all.extend(["--jobs", jobs]);
-    let out = rsts(&all);
-    assert!(out.status.success(), "{all:?}: {}", common::stderr(&out));
-    out.stdout
+    ok(&all).stdout
 }
 
 #[test]
@@ -47,27 +45,9 @@ fn reference_output_is_the_same_on_any_number_of_threads() {
 #[test]
 fn check_report_is_the_same_on_any_number_of_threads() {
     // A dopri5 run of camera V, 12 000 samples (three batches of the analysis), to CSV.
-    let out = rsts(&[
-        "integrate",
-        "--omega=-1.0788400339538464,-0.3702277283006931,0",
-        "--alpha=-0.5266712206715436,-0.8500690709091504,0",
-        "--beta=-0.8500690709091504,0.5266712206715436,0",
-        "--t-end",
-        "300",
-        "--samples",
-        "12000",
-        "--method",
-        "dopri5",
-        "--rtol",
-        "1e-9",
-        "--atol",
-        "1e-9",
-        "--format",
-        "csv",
-    ]);
-    assert!(out.status.success(), "{}", common::stderr(&out));
+    let csv = camera_v_dopri5_csv("300", 12000);
     let path = tmp("traj.csv");
-    std::fs::write(&path, &out.stdout).unwrap();
+    std::fs::write(&path, &csv).unwrap();
     let args = ["check", s(&path), "--format", "json"];
     let one = run(&args, "1");
     let report: serde_json::Value = serde_json::from_slice(&one).unwrap();

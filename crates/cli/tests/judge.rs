@@ -3,30 +3,12 @@
 //! against a value computed independently by a few lines of Python (stdlib `decimal`; skipped
 //! with a message when python3 is missing).
 
-use std::process::{Command, Output};
+use std::process::Command;
 
 use serde_json::Value;
 
 mod common;
-use common::{rsts, stderr, stdout, tmp};
-
-fn ok(args: &[&str]) -> Output {
-    let out = rsts(args);
-    assert!(out.status.success(), "{args:?}: {}", stderr(&out));
-    out
-}
-
-fn json_of(args: &[&str]) -> Value {
-    let mut all = args.to_vec();
-    all.extend_from_slice(&["--format", "json"]);
-    serde_json::from_slice(&ok(&all).stdout).expect("one JSON document")
-}
-
-fn write(name: &str, bytes: &[u8]) -> String {
-    let p = tmp(name);
-    std::fs::write(&p, bytes).unwrap();
-    p.to_str().unwrap().to_string()
-}
+use common::{json_of, ok, rsts, stdout, tmp, write};
 
 /// Run `python3 -c script args…`: its stdout, or None (skip reported) without python3.
 fn python(test: &str, script: &str, args: &[&str]) -> Option<String> {

@@ -5,6 +5,11 @@
 //! crate, and everything above it, once more with the union of the features. The feature pins in
 //! crates/cli/Cargo.toml enable those features in the binary's own build.
 //!
+//! The same holds for the example adapter, which docs/compare.md builds alone (`cargo build
+//! --release -p example-adapter-rk4`): with other features it would be compiled again and
+//! re-linked in target/release while documented examples and tests run it; its feature pins are
+//! in crates/example-adapter-rk4/Cargo.toml.
+//!
 //! Two checks: the features `cargo tree` resolves for the binary's build are among those of the
 //! test build (fast, and names the crate and feature to pin), and — in a release test run, where
 //! the test build has just happened — `cargo build --release -p rsts-cli` finds every unit fresh
@@ -99,12 +104,15 @@ fn the_comparison_flags_a_feature_that_only_the_test_build_turns_on() {
 /// binary's build) runs only when the fast one has passed.
 #[test]
 fn the_binary_shares_every_unit_with_the_test_build() {
-    features_of_the_binary_are_those_of_the_test_build();
-    after_the_test_build_the_binary_build_is_fresh();
+    for package in ["rsts-cli", "example-adapter-rk4"] {
+        features_of_the_binary_are_those_of_the_test_build(package);
+    }
+    // Only the binary: a test run of this crate alone builds rsts but not the adapter.
+    after_the_test_build_the_binary_build_is_fresh("rsts-cli", 50);
 }
 
-fn features_of_the_binary_are_those_of_the_test_build() {
-    let bin = tree(&["-p", "rsts-cli", "-e", "normal,build"]);
+fn features_of_the_binary_are_those_of_the_test_build(package: &str) {
+    let bin = tree(&["-p", package, "-e", "normal,build"]);
     // As scripts/test.sh builds it (the Python extension is built by maturin there).
     let test = tree(&[
         "--workspace",
@@ -113,17 +121,21 @@ fn features_of_the_binary_are_those_of_the_test_build() {
         "-e",
         "normal,build,dev",
     ]);
-    assert!(bin.keys().any(|k| k.starts_with("rsts-cli ")), "{bin:?}");
+    assert!(
+        bin.keys().any(|k| k.starts_with(&format!("{package} "))),
+        "{bin:?}"
+    );
     let problems = missing(&bin, &test);
     assert!(
         problems.is_empty(),
-        "scripts/test.sh would compile these crates (and all above them) a second time after \
-         scripts/run.sh; turn the features on in the feature pins of crates/cli/Cargo.toml:\n{}",
+        "`cargo build --release -p {package}` and the test build would compile these crates (and \
+         all above them) each with its own features; turn the features on in the feature pins \
+         of {package}'s Cargo.toml:\n{}",
         problems.join("\n")
     );
 }
 
-fn after_the_test_build_the_binary_build_is_fresh() {
+fn after_the_test_build_the_binary_build_is_fresh(package: &str, least_units: usize) {
     if cfg!(debug_assertions) {
         rsts_io::report_skip(
             "one_build::after_the_test_build_the_binary_build_is_fresh",
@@ -136,7 +148,7 @@ fn after_the_test_build_the_binary_build_is_fresh() {
             "build",
             "--release",
             "-p",
-            "rsts-cli",
+            package,
             "--offline",
             "--message-format=json",
         ])
@@ -163,10 +175,13 @@ fn after_the_test_build_the_binary_build_is_fresh() {
             rebuilt.push(id.to_string());
         }
     }
-    assert!(units > 50, "only {units} units in the binary's build");
+    assert!(
+        units > least_units,
+        "only {units} units in the build of {package}"
+    );
     assert!(
         rebuilt.is_empty(),
-        "cargo build --release -p rsts-cli recompiled {} of {units} units the test build had \
+        "cargo build --release -p {package} recompiled {} of {units} units the test build had \
          built: {rebuilt:#?}",
         rebuilt.len()
     );

@@ -159,6 +159,8 @@ pub struct Exec {
     pub dense: Option<usize>,
     /// The steps and dense samples of the last answer to a request with `dense`.
     pub answered_dense: Option<rsts_dynamics::integrators::dense::StepSamples>,
+    /// The parts of its cost the last answer stated (`"stats"`; a CSV answer states none).
+    answered_stats: rsts_harness::StatedStats,
 }
 
 impl Exec {
@@ -186,6 +188,7 @@ impl Exec {
             step: None,
             dense: None,
             answered_dense: None,
+            answered_stats: rsts_harness::StatedStats::default(),
         })
     }
 
@@ -452,6 +455,12 @@ impl Exec {
         }
         let samples = raw.to_samples(bits);
         let (steps, rhs_evals, seconds) = stats;
+        self.answered_stats = rsts_harness::StatedStats {
+            steps,
+            rejected_steps: None,
+            rhs_evals,
+            integration_seconds: seconds,
+        };
         Ok((
             samples.states,
             Stats {
@@ -584,6 +593,10 @@ impl Integrator for Exec {
 
     fn digits(&self) -> u32 {
         self.answered_digits.unwrap_or(self.digits)
+    }
+
+    fn stated_stats(&self) -> Option<rsts_harness::StatedStats> {
+        Some(self.answered_stats)
     }
 
     fn integrate(

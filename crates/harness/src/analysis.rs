@@ -385,6 +385,11 @@ impl Analysis {
         self.report.add_stats(stats);
     }
 
+    /// Forget the counts the run did not state ([`Report::forget_unstated`]).
+    pub fn forget_unstated(&mut self, stated: &crate::StatedStats) {
+        self.report.forget_unstated(stated);
+    }
+
     /// Add wall time measured around the integrator.
     pub fn add_wall_seconds(&mut self, seconds: f64) {
         *self.report.wall_seconds.get_or_insert(0.0) += seconds;

@@ -120,6 +120,9 @@ pub fn compare_integrator(
         analysis.rename(integrator.name());
         analysis.set_digits(integrator.digits());
         analysis.add_stats(&traj.stats);
+        if let Some(stated) = integrator.stated_stats() {
+            analysis.forget_unstated(&stated);
+        }
         if let Some(w) = traj.wall_seconds {
             analysis.add_wall_seconds(w);
         }
@@ -161,6 +164,9 @@ pub fn compare_integrator(
             )));
         }
         analysis.add_stats(&traj.stats);
+        if let Some(stated) = integrator.stated_stats() {
+            analysis.forget_unstated(&stated);
+        }
         if let Some(w) = traj.wall_seconds {
             analysis.add_wall_seconds(w);
         }

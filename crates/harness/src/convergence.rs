@@ -464,5 +464,6 @@ pub fn least_squares(points: &[(f64, f64)]) -> (f64, f64, f64) {
     (slope, stderr, c)
 }
 
+pub mod diagram;
 #[cfg(test)]
 mod tests;

@@ -69,6 +69,13 @@ pub trait Integrator {
     fn digits(&self) -> u32 {
         rsts_dynamics::scalar::digits_for_bits(self.working_bits())
     }
+    /// What the last run stated about its cost, part by part, when the integrator does not
+    /// count it itself (an external integrator's answer may leave out its steps or evaluations:
+    /// reported as not known, not as 0). `None` (default): every count in the trajectory's
+    /// `stats` is the integrator's own.
+    fn stated_stats(&self) -> Option<crate::StatedStats> {
+        None
+    }
     /// The states at `times`, starting from `problem.initial` at `times[0]` = 0. `times` is
     /// strictly increasing (a single 0 for a run of no length); the answer has one state per time.
     fn integrate(

@@ -149,6 +149,19 @@ impl Report {
         self.integration_seconds = s.integration_seconds;
     }
 
+    /// Forget the counts a run did not state (an external integrator's answer without
+    /// `stats.steps` or `stats.rhs_evals`): null in JSON, empty in CSV, n/a in tables. The
+    /// protocol has no rejected steps: they are counted with the steps.
+    pub fn forget_unstated(&mut self, s: &StatedStats) {
+        if s.steps.is_none() {
+            self.steps = None;
+            self.rejected_steps = None;
+        }
+        if s.rhs_evals.is_none() {
+            self.rhs_evals = None;
+        }
+    }
+
     /// Forget the counts of steps and evaluations (an integrator that cannot see them, e.g. a
     /// Python callable: its time is measured, its steps are not known).
     pub fn forget_counts(&mut self) {

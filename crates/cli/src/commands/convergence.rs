@@ -11,7 +11,6 @@ use clap::Args as ClapArgs;
 use rsts_dynamics::integrators::{MethodName, Tolerances, MAX_MP_DIGITS};
 use rsts_harness::convergence::{halvings, FixedStepIntegrator, FixedStepMethod};
 use rsts_harness::{convergence, ConvergencePlan, ConvergenceReport};
-use rsts_plots::{Chart, Series, Style};
 
 use crate::args::{case_error, count, finite_f64, CaseArgs, MethodParser};
 use crate::external::{exec_integrator, TimeoutArgs};
@@ -207,73 +206,8 @@ fn write_table(out: &mut dyn Write, report: &ConvergenceReport) -> anyhow::Resul
     Ok(())
 }
 
-/// Colour of the excluded points (of every method).
-const EXCLUDED_GREY: &str = "#9a9a9a";
-
-/// Log–log error against step: per method the points of the window (line and markers) and the
-/// fitted line C·hᵖ over the window (dashed); the excluded points of all methods in grey.
+/// The convergence diagram ([`rsts_harness::convergence::diagram`]) as SVG.
 fn render(report: &ConvergenceReport) -> anyhow::Result<String> {
-    let palette = rsts_plots::PALETTE;
-    let mut series = Vec::new();
-    let mut excluded = Vec::new();
-    for (k, fit) in report.fits.iter().enumerate() {
-        let colour = palette[k % palette.len()].to_string();
-        let rows: Vec<_> = report
-            .rows
-            .iter()
-            .filter(|r| r.method == fit.method)
-            .collect();
-        let out_of = |h: f64| fit.excluded.iter().any(|e| e.step == h);
-        let inside: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r| !out_of(r.step))
-            .map(|r| (r.step, r.max_error))
-            .collect();
-        let outside: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r| out_of(r.step) && r.max_error > 0.0 && r.max_error.is_finite())
-            .map(|r| (r.step, r.max_error))
-            .collect();
-        let mut s = Series::new(fit.method.clone(), inside, Style::LineMarkers);
-        s.color = Some(colour.clone());
-        series.push(s);
-        excluded.extend(outside);
-        // The fitted line over its window, a factor 2 beyond each end.
-        let (lo, hi) = (fit.window[0] / 2.0, fit.window[1] * 2.0);
-        let line = |h: f64| 10f64.powf(fit.log10_constant + fit.order * h.log10());
-        let mut s = Series::new(
-            format!(
-                "{} fit: order {:.2} ± {:.2}",
-                fit.method, fit.order, fit.order_stderr
-            ),
-            vec![(lo, line(lo)), (hi, line(hi))],
-            Style::Line,
-        );
-        s.color = Some(colour);
-        s.dashed = true;
-        series.push(s);
-    }
-    if !excluded.is_empty() {
-        let mut s = Series::new(
-            "excluded: round-off floor, pre-asymptotic",
-            excluded,
-            Style::Markers,
-        );
-        s.color = Some(EXCLUDED_GREY.into());
-        series.push(s);
-    }
-    let c = &report.case;
-    let chart = Chart::log_log(
-        format!(
-            "Observed order: a = {}, b = {}, m = {}, h = {}, T = {}",
-            c.a, c.b, c.m, c.h, c.t_end
-        ),
-        "fixed step h",
-        format!(
-            "max state error over {} samples (closed-form reference)",
-            c.samples
-        ),
-        series,
-    );
+    let chart = rsts_harness::convergence::diagram::chart(report);
     rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg: {e}"))
 }

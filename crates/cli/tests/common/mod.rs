@@ -31,6 +31,64 @@ pub fn stderr(out: &Output) -> String {
     String::from_utf8(out.stderr.clone()).expect("stderr is UTF-8")
 }
 
+/// Runs `rsts args…` and asserts that it succeeded (the arguments and stderr shown if not).
+pub fn ok(args: &[&str]) -> Output {
+    let out = rsts(args);
+    assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+    out
+}
+
+/// The one JSON document on the stdout of a run that must have succeeded.
+pub fn json_doc(out: &Output) -> serde_json::Value {
+    assert!(out.status.success(), "{}", stderr(out));
+    serde_json::from_slice(&out.stdout).expect("one JSON document")
+}
+
+/// Runs `rsts args… --format json`, expects success and returns the document.
+pub fn json_of(args: &[&str]) -> serde_json::Value {
+    let mut all = args.to_vec();
+    all.extend_from_slice(&["--format", "json"]);
+    serde_json::from_slice(&ok(&all).stdout).expect("one JSON document")
+}
+
+/// Runs `rsts <command> args… --format json`, expects success and returns the document.
+pub fn command_json(command: &str, args: &[&str]) -> serde_json::Value {
+    let mut all = vec![command];
+    all.extend_from_slice(args);
+    json_of(&all)
+}
+
+/// A dopri5 run (rtol = atol = 1e-9) of a camera V motion, whose error grows: `rsts integrate`
+/// to `t_end` with `samples` samples, as CSV.
+pub fn camera_v_dopri5_csv(t_end: &str, samples: usize) -> Vec<u8> {
+    ok(&[
+        "integrate",
+        "--omega=-1.0788400339538464,-0.3702277283006931,0",
+        "--alpha=-0.5266712206715436,-0.8500690709091504,0",
+        "--beta=-0.8500690709091504,0.5266712206715436,0",
+        "--t-end",
+        t_end,
+        "--samples",
+        &samples.to_string(),
+        "--method",
+        "dopri5",
+        "--rtol",
+        "1e-9",
+        "--atol",
+        "1e-9",
+        "--format",
+        "csv",
+    ])
+    .stdout
+}
+
+/// Writes `bytes` to [`tmp`]`(name)` and returns the path as a string, for an argument list.
+pub fn write(name: &str, bytes: &[u8]) -> String {
+    let p = tmp(name);
+    std::fs::write(&p, bytes).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
 /// The path `name` in this test process's temporary directory (created if needed):
 /// `rsts-<test file>-tests-<pid>`.
 pub fn tmp(name: &str) -> PathBuf {
