@@ -12,6 +12,7 @@ pub mod error;
 pub mod fields;
 pub mod integrals;
 pub mod integrators;
+pub mod jet;
 pub mod scalar;
 pub mod state;
 pub mod vec3;

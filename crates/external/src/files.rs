@@ -97,7 +97,7 @@ fn checked(raw: RawTrajectory, name: &str) -> Result<RawTrajectory, String> {
 }
 
 /// Strip RFC 4180 quotes from a field.
-fn unquote(s: &str) -> &str {
+pub(crate) fn unquote(s: &str) -> &str {
     let t = s.trim();
     t.strip_prefix('"')
         .and_then(|x| x.strip_suffix('"'))
@@ -107,8 +107,8 @@ fn unquote(s: &str) -> &str {
 /// The header of a CSV trajectory: where the ten [`COLUMNS`] are.
 #[derive(Clone, Debug)]
 pub(crate) struct CsvHeader {
-    index: [usize; 10],
-    fields: usize,
+    pub(crate) index: [usize; 10],
+    pub(crate) fields: usize,
 }
 
 impl CsvHeader {

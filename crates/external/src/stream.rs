@@ -16,6 +16,9 @@ use crate::files::{
 };
 use crate::samples::{comes_after, not_after, Number, RawTrajectory, F64_TEXT_DIGITS};
 
+mod f64_rows;
+pub use f64_rows::{check_rest_f64, F64Chunk};
+
 /// Rows per chunk.
 pub const CHUNK_ROWS: usize = 1 << 13;
 /// Most samples one trajectory may have (`rsts check`; docs/output.md).
@@ -114,15 +117,8 @@ impl TrajectoryReader {
             // Read whole already: surveyed where it is.
             return Ok((first, survey));
         }
-        let mut survey = Survey {
-            rows: None,
-            digits: 0,
-            extent: 0.0,
-        };
-        while let Some(raw) = first.next_chunk()? {
-            survey.add(&raw);
-        }
-        survey.rows = Some(first.read);
+        // Read as f64 (digits counted, every row checked): one parse per value.
+        let survey = first.survey_f64()?;
         Ok((Self::open(path)?, survey))
     }
 
@@ -299,78 +295,112 @@ impl Rows {
                 line,
                 buf,
             } => loop {
-                buf.clear();
-                let n = input
-                    .by_ref()
-                    .take(MAX_LINE_BYTES + 1)
-                    .read_until(b'\n', buf)
-                    .map_err(|e| format!("cannot read ({e})"))?;
-                if n == 0 {
-                    return match header {
-                        None => Err("empty: no header line".into()),
-                        Some(_) => Ok(None),
-                    };
-                }
-                *line += 1;
-                let k = *line;
-                if n as u64 > MAX_LINE_BYTES {
-                    return Err(format!(
-                        "line {k}: longer than {MAX_LINE_BYTES} bytes (a row is ten numbers)"
-                    ));
-                }
-                let text = std::str::from_utf8(buf).map_err(|e| {
-                    format!("line {k}: not UTF-8 text (byte {})", e.valid_up_to() + 1)
-                })?;
-                let text = text.strip_suffix('\n').unwrap_or(text);
-                let text = text.strip_suffix('\r').unwrap_or(text);
-                // A byte-order mark (as spreadsheet programs write) is not part of a name.
-                let text = if k == 1 {
-                    text.strip_prefix('\u{feff}').unwrap_or(text)
-                } else {
-                    text
+                let Some(k) = csv_line(input, header, line, buf)? else {
+                    return Ok(None);
                 };
-                match header {
-                    None if text.trim().is_empty() => continue,
-                    None => *header = Some(CsvHeader::parse(k, text)?),
-                    Some(h) => {
-                        if let Some((t, state)) = h.row(k, text)? {
-                            return Ok(Some((t, state, format!("line {k}"))));
-                        }
-                    }
+                let h = header.as_ref().expect("read before the rows");
+                if let Some((t, state)) = h.row(k, line_text(buf, k)?)? {
+                    return Ok(Some((t, state, format!("line {k}"))));
                 }
             },
-            Rows::Npy {
-                values,
-                rows,
-                width,
-                next,
-                row,
-            } => {
-                if *next >= *rows {
+            Rows::Npy { .. } => {
+                let Some(r) = self.next_npy_row()? else {
                     return Ok(None);
-                }
-                row.clear();
-                for _ in 0..*width {
-                    let v = values.next().unwrap_or_else(|| {
-                        Err(std::io::Error::new(
-                            std::io::ErrorKind::UnexpectedEof,
-                            "no more values",
-                        ))
-                    });
-                    row.push(v.map_err(|e| {
-                        format!(
-                            "truncated or damaged data: {e} (expected {rows} rows of {width} float64)"
-                        )
-                    })?);
-                }
-                let r = *next;
-                *next += 1;
+                };
+                let Rows::Npy { row, .. } = self else {
+                    unreachable!()
+                };
                 let (t, state) = npy_row(r, |c| row[c])?;
                 Ok(Some((t, state, format!("row {}", r + 1))))
             }
             Rows::Whole { samples, .. } => Ok(samples.next().map(|((t, s), p)| (t, s, p))),
         }
     }
+}
+
+impl Rows {
+    /// Read the next row of an npy array into its `row`: its index, `None` after the last.
+    fn next_npy_row(&mut self) -> Result<Option<usize>, String> {
+        let Rows::Npy {
+            values,
+            rows,
+            width,
+            next,
+            row,
+        } = self
+        else {
+            return Ok(None);
+        };
+        if *next >= *rows {
+            return Ok(None);
+        }
+        row.clear();
+        for _ in 0..*width {
+            let v = values.next().unwrap_or_else(|| {
+                Err(std::io::Error::new(
+                    std::io::ErrorKind::UnexpectedEof,
+                    "no more values",
+                ))
+            });
+            row.push(v.map_err(|e| {
+                format!("truncated or damaged data: {e} (expected {rows} rows of {width} float64)")
+            })?);
+        }
+        *next += 1;
+        Ok(Some(*next - 1))
+    }
+}
+
+/// Read the next line of a CSV stream after its header (read and parsed on the way, blank
+/// lines before it skipped) into `buf`: its number, or `None` at the end.
+fn csv_line(
+    input: &mut Box<dyn BufRead + Send>,
+    header: &mut Option<CsvHeader>,
+    line: &mut usize,
+    buf: &mut Vec<u8>,
+) -> Result<Option<usize>, String> {
+    loop {
+        buf.clear();
+        let n = input
+            .by_ref()
+            .take(MAX_LINE_BYTES + 1)
+            .read_until(b'\n', buf)
+            .map_err(|e| format!("cannot read ({e})"))?;
+        if n == 0 {
+            return match header {
+                None => Err("empty: no header line".into()),
+                Some(_) => Ok(None),
+            };
+        }
+        *line += 1;
+        let k = *line;
+        if n as u64 > MAX_LINE_BYTES {
+            return Err(format!(
+                "line {k}: longer than {MAX_LINE_BYTES} bytes (a row is ten numbers)"
+            ));
+        }
+        if header.is_some() {
+            return Ok(Some(k));
+        }
+        let text = line_text(buf, k)?;
+        if !text.trim().is_empty() {
+            *header = Some(CsvHeader::parse(k, text)?);
+        }
+    }
+}
+
+/// The text of line `k` read into `buf`, without its line end (and a byte-order mark on line
+/// 1, as spreadsheet programs write: not part of a name).
+fn line_text(buf: &[u8], k: usize) -> Result<&str, String> {
+    let text = std::str::from_utf8(buf)
+        .map_err(|e| format!("line {k}: not UTF-8 text (byte {})", e.valid_up_to() + 1))?;
+    let text = text.strip_suffix('\n').unwrap_or(text);
+    let text = text.strip_suffix('\r').unwrap_or(text);
+    Ok(if k == 1 {
+        text.strip_prefix('\u{feff}').unwrap_or(text)
+    } else {
+        text
+    })
 }
 
 /// Refuse an input read whole beyond [`MAX_WHOLE_BYTES`], before reading it.
@@ -394,6 +424,13 @@ fn too_many(name: &str, rows: usize) -> String {
     )
 }
 
+/// The refusal of a value of more than 17 digits at `place` after a stream's first chunk.
+fn long_after_f64(name: &str, place: &str) -> String {
+    format!(
+        "{name}: {place}: a value of more than {F64_TEXT_DIGITS} digits after {CHUNK_ROWS} rows of f64 data: a stream's precision is decided by its first {CHUNK_ROWS} rows (give the trajectory as a file, which is read twice)"
+    )
+}
+
 /// Analyse the rest of `reader` with `check`, chunk after chunk, at `bits` bits with the
 /// precision rule decided already (`high`: decimal texts read exactly). A chunk of a stream
 /// with a longer value than its survey allowed is refused. Stops when the observer asks.
@@ -412,10 +449,7 @@ pub fn check_rest(
                         || raw.states[k].iter().any(|x| x.digits() > F64_TEXT_DIGITS)
                 })
                 .unwrap_or(0);
-            return Err(format!(
-                "{}: {}: a value of more than {F64_TEXT_DIGITS} digits after {} rows of f64 data: a stream's precision is decided by its first {CHUNK_ROWS} rows (give the trajectory as a file, which is read twice)",
-                reader.name, raw.places[k], CHUNK_ROWS
-            ));
+            return Err(long_after_f64(&reader.name, &raw.places[k]));
         }
         let samples = raw.to_samples_at(bits, high);
         drop(raw);

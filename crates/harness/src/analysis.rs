@@ -26,6 +26,8 @@ use crate::rounded_reference::DdReference;
 use crate::{HarnessError, SampleRecord};
 use rsts_dynamics::scalar::DoubleDouble;
 
+mod f64_samples;
+
 /// Receives the samples of an analysis as they are computed.
 pub trait Observer {
     /// Called once per sample, in time order.
@@ -77,8 +79,12 @@ const BATCH: usize = 4096;
 /// A sample evaluated apart from the samples before it (the parallel part of
 /// [`Analysis::sample`]).
 struct Evaluated {
-    exact: State<Float>,
+    /// The exact state at the reference precision, for the MPFR geometry ([`Geometry::sample`]
+    /// computes it in time order); `None` for the f64 samples of [`Analysis::sample_all_f64`].
+    exact: Option<State<Float>>,
     errors: SampleErrors,
+    /// The relative and the mixed error of the correct digits ([`crate::digits`]).
+    digits: (f64, f64),
     snapshots: (StateSnapshot, StateSnapshot),
     geometry: Option<crate::geometry::SampleGeometry>,
 }
@@ -248,7 +254,7 @@ impl Analysis {
         observer: &mut dyn Observer,
     ) -> Result<SampleErrors, HarnessError> {
         let evaluated = self.evaluate(t, state);
-        self.record(t, state, evaluated, observer)
+        self.record(t.to_f64(), Some((t, state)), evaluated, observer)
     }
 
     /// Analyse samples in time order as [`Analysis::sample`] does one by one, evaluating them
@@ -278,7 +284,7 @@ impl Analysis {
                     self.mark_incomplete();
                     return Ok(first);
                 }
-                let e = self.record(t, s, ev, observer)?;
+                let e = self.record(t.to_f64(), Some((t, s)), ev, observer)?;
                 first.get_or_insert(e);
             }
         }
@@ -306,34 +312,41 @@ impl Analysis {
             .as_ref()
             .and_then(|g| g.evaluate(t, state, &exact));
         Evaluated {
-            exact,
+            digits: crate::digits::sample_errors(&exact, state, self.digits.ratio()),
+            exact: Some(exact),
             errors,
             snapshots: (ex, int),
             geometry,
         }
     }
 
-    /// Add an evaluated sample (the next in time order) to the report and the observer.
+    /// Add an evaluated sample (the next in time order, at time `t`; `mpfr`: its time and
+    /// state at the reference precision, for the MPFR geometry) to the report and the observer.
     fn record(
         &mut self,
-        t: &Float,
-        state: &State<Float>,
+        t: f64,
+        mpfr: Option<(&Float, &State<Float>)>,
         evaluated: Evaluated,
         observer: &mut dyn Observer,
     ) -> Result<SampleErrors, HarnessError> {
         let Evaluated {
             exact,
             mut errors,
+            digits,
             snapshots: (ex, int),
             geometry,
         } = evaluated;
         let state_error = errors.state_error;
         let geometry = match (geometry, self.geometry.as_mut()) {
             (Some(g), Some(geometry)) => {
-                geometry.record(t.to_f64(), &g, state_error);
+                geometry.record(t, &g, state_error);
                 Some(g)
             }
-            (_, Some(geometry)) => geometry.sample(t, state, &exact, state_error),
+            (_, Some(geometry)) => match (mpfr, exact) {
+                (Some((tm, state)), Some(exact)) => geometry.sample(tm, state, &exact, state_error),
+                // An f64 sample's geometry is always evaluated (it runs in f64).
+                _ => None,
+            },
             (_, None) => None,
         };
         if let Some(g) = geometry {
@@ -344,10 +357,10 @@ impl Analysis {
         }
         let index = self.report.samples_compared;
         self.report.absorb(&errors);
-        self.digits.sample(&exact, state);
+        self.digits.add(digits);
         self.report.correct_digits = self.digits.summary();
         self.drifts.push(
-            t.to_f64(),
+            t,
             [
                 errors.drift_h,
                 errors.drift_k,
@@ -358,7 +371,7 @@ impl Analysis {
         observer
             .on_sample(&SampleRecord {
                 index,
-                t: t.to_f64(),
+                t,
                 exact: ex,
                 integrated: int,
                 errors,

@@ -7,10 +7,12 @@
 
 use rug::Float;
 
+use rsts_dynamics::state::DIM;
 use rsts_dynamics::State;
 
-use crate::analysis::Observer;
+use crate::analysis::{Analysis, Observer};
 use crate::check::{Check, CheckReport, CheckedCase};
+use crate::metrics::SampleErrors;
 use crate::HarnessError;
 
 /// A check under way, fed its samples chunk after chunk ([`CheckStream::feed`]).
@@ -53,33 +55,62 @@ impl CheckStream {
         states: &[State<Float>],
         observer: &mut dyn Observer,
     ) -> Result<bool, HarnessError> {
-        if times.len() != states.len() {
+        let span = times.first().zip(times.last());
+        let span = span.map(|(a, b)| (a.to_f64(), b.to_f64()));
+        let reach = times.iter().fold(0.0, |m: f64, t| m.max(t.to_f64().abs()));
+        self.feed_with(span, times.len(), states.len(), reach, |analysis| {
+            analysis.sample_all(times, states, observer)
+        })
+    }
+
+    /// [`CheckStream::feed`] of f64 samples (times, states ω, α, β), analysed in double-double
+    /// without MPFR numbers ([`crate::Analysis::sample_all_f64`]).
+    pub fn feed_f64(
+        &mut self,
+        times: &[f64],
+        states: &[[f64; DIM]],
+        observer: &mut dyn Observer,
+    ) -> Result<bool, HarnessError> {
+        let span = times.first().zip(times.last()).map(|(a, b)| (*a, *b));
+        let reach = times.iter().fold(0.0, |m: f64, t| m.max(t.abs()));
+        self.feed_with(span, times.len(), states.len(), reach, |analysis| {
+            analysis.sample_all_f64(times, states, observer)
+        })
+    }
+
+    /// Feed `n` samples spanning `span` (`None`: none), |t| ≤ `reach`, analysed by `run`.
+    fn feed_with(
+        &mut self,
+        span: Option<(f64, f64)>,
+        n: usize,
+        n_states: usize,
+        reach: f64,
+        run: impl FnOnce(&mut Analysis) -> Result<Option<SampleErrors>, HarnessError>,
+    ) -> Result<bool, HarnessError> {
+        if n != n_states {
             return Err(HarnessError::Case(format!(
-                "{} times and {} states",
-                times.len(),
-                states.len()
+                "{n} times and {n_states} states"
             )));
         }
-        let (Some(first), Some(last)) = (times.first(), times.last()) else {
+        let Some((first, last)) = span else {
             return Ok(!self.stopped);
         };
         let first_feed = self.given == 0;
         if first_feed {
-            self.span.0 = first.to_f64();
+            self.span.0 = first;
         }
-        self.span.1 = last.to_f64();
-        self.given += times.len();
+        self.span.1 = last;
+        self.given += n;
         if self.stopped {
             return Ok(false);
         }
-        let reach = times.iter().fold(0.0, |m: f64, t| m.max(t.to_f64().abs()));
         let Check {
             analysis,
             reference,
             ..
         } = &mut self.check;
         analysis.reach(reference, reach)?;
-        let errors = analysis.sample_all(times, states, observer)?;
+        let errors = run(analysis)?;
         if first_feed {
             self.start_error = errors.map(|e| e.state_error);
         }

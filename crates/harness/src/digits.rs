@@ -9,7 +9,8 @@
 //! components are the nine of the state x = (ω, α, β); the errors are taken at the precision of
 //! the reference. A sample without error has unbounded digits (+∞, `null` in JSON).
 
-use rsts_dynamics::State;
+use rsts_dynamics::scalar::DoubleDouble;
+use rsts_dynamics::{Real, State};
 use rug::Float;
 use serde::{Deserialize, Deserializer, Serialize};
 
@@ -65,6 +66,23 @@ pub fn sample_errors(exact: &State<Float>, state: &State<Float>, ratio: f64) -> 
     (relative, mixed)
 }
 
+/// [`sample_errors`] of an f64 sample `x` against the exact state in double-double (the
+/// reference of f64 data: the same two numbers but within 2⁻¹⁰⁰ of an f64 rounding boundary).
+pub fn sample_errors_dd(exact: &State<DoubleDouble>, x: &[f64; 9], ratio: f64) -> (f64, f64) {
+    let y = exact.to_array();
+    let mut relative = 0.0f64;
+    let mut mixed = 0.0f64;
+    for (x, y) in x.iter().zip(y.iter()) {
+        let d = (DoubleDouble::from_f64_exact(*x) - *y).abs();
+        let size = y.abs();
+        if size.to_f64() != 0.0 {
+            relative = relative.max((d / size).to_f64());
+        }
+        mixed = mixed.max((d / size.add_f64(ratio)).to_f64());
+    }
+    (relative, mixed)
+}
+
 /// −log10 of an error: +∞ for no error.
 fn digits_of(error: f64) -> f64 {
     -error.log10()
@@ -94,8 +112,19 @@ impl DigitsTracker {
 
     /// Add the next sample.
     pub fn sample(&mut self, exact: &State<Float>, state: &State<Float>) {
-        self.last = sample_errors(exact, state, self.ratio);
+        self.add(sample_errors(exact, state, self.ratio));
+    }
+
+    /// Add the next sample's relative and mixed errors ([`sample_errors`] with
+    /// [`DigitsTracker::ratio`]).
+    pub fn add(&mut self, errors: (f64, f64)) {
+        self.last = errors;
         self.worst = (self.worst.0.max(self.last.0), self.worst.1.max(self.last.1));
+    }
+
+    /// atol/rtol of the mixed error.
+    pub fn ratio(&self) -> f64 {
+        self.ratio
     }
 
     /// The digits so far.

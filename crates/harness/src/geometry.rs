@@ -16,7 +16,7 @@ use rsts_closed_form::manifold::distance::{field_norm, gain};
 use rsts_closed_form::manifold::{normal_type, NormalType, Projector};
 use rsts_closed_form::scalar::Scalar;
 use rsts_closed_form::{ExplicitMotion, TorusChoice};
-use rsts_dynamics::scalar::bits_for_digits;
+use rsts_dynamics::scalar::{bits_for_digits, DoubleDouble};
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::{Fields, Real, State};
 use rug::Float;
@@ -76,11 +76,26 @@ impl<T: Scalar> Inner<T> {
         psi_exact: &[Float; 2],
     ) -> SampleGeometry {
         let down = |x: &Float| T::from_mpfr(x, self.bits);
-        let x = state.map(down);
+        let exact = exact.to_array();
+        self.sample_in(
+            state.map(down),
+            std::array::from_fn(|k| down(&exact[k])),
+            psi_exact.clone().map(|p| down(&p)),
+            &state.map(|c| c.to_f64()),
+        )
+    }
+
+    /// [`Inner::sample`] of the state `x`, the exact state and ψ(exact) in `T` (`state`: `x` in
+    /// f64).
+    fn sample_in(
+        &self,
+        x: State<T>,
+        exact: [T; DIM],
+        guess: [T; 2],
+        state: &State<f64>,
+    ) -> SampleGeometry {
         let x_phi = field_norm(&self.fields, &x).to_f64();
         let target = x.to_array();
-        let guess = psi_exact.clone().map(|p| down(&p));
-        let exact = exact.to_array();
         // The first-order model in (δm, δh) holds for small shifts of the torus only: beyond
         // 1e-2 (an error that has saturated) there is no nearest point near the exact one.
         let small = |shift: &T| shift.abs().to_f64() <= MAX_SHIFT;
@@ -104,7 +119,7 @@ impl<T: Scalar> Inner<T> {
                     }
                 });
                 let along_n = (0..DIM)
-                    .map(|k| (p.point[k].clone() - down(&exact[k])).abs().to_f64())
+                    .map(|k| (p.point[k].clone() - &exact[k]).abs().to_f64())
                     .fold(0.0, f64::max);
                 SampleGeometry {
                     distance_from_n: p.departure.to_f64(),
@@ -118,7 +133,7 @@ impl<T: Scalar> Inner<T> {
             None => {
                 // No nearest point near the exact one: the distance in state units from the
                 // gain of X_Φ at the state.
-                let g = gain(&self.fields_f64(), &state.map(|c| c.to_f64()));
+                let g = gain(&self.fields_f64(), state);
                 SampleGeometry {
                     distance_from_n: if g > 0.0 { x_phi / g } else { f64::NAN },
                     x_phi,
@@ -299,6 +314,13 @@ pub struct GeometrySummary {
     pub error_split: Option<ErrorSplit>,
 }
 
+/// ψ⁰, ν of the exact motion and 2π in double-double.
+struct PhaseClockDd {
+    psi0: [DoubleDouble; 2],
+    nu: [DoubleDouble; 2],
+    two_pi: DoubleDouble,
+}
+
 /// Tracks the geometry of the error along a run.
 pub struct Geometry {
     precision: Precision,
@@ -306,6 +328,8 @@ pub struct Geometry {
     psi0: [Float; 2],
     nu: [Float; 2],
     two_pi: Float,
+    /// ψ⁰, ν and 2π in double-double: the clock of f64 samples ([`Geometry::evaluate_f64`]).
+    clock_dd: PhaseClockDd,
     normal: NormalSummary,
     phase: PhaseErrorSummary,
     series: Series,
@@ -326,11 +350,21 @@ impl Geometry {
         };
         let bits = motion.constants.a.prec();
         let n = normal_type(&motion.constants);
+        let psi0 = [motion.choice.phase1, motion.choice.phase2].map(|p| Float::with_val(bits, p));
+        let nu = motion.frequencies();
+        let two_pi = Float::with_val(bits, rug::float::Constant::Pi) * 2u32;
+        let dd = DoubleDouble::from_float;
+        let clock_dd = PhaseClockDd {
+            psi0: psi0.each_ref().map(dd),
+            nu: nu.each_ref().map(dd),
+            two_pi: dd(&two_pi),
+        };
         Ok(Self {
             precision,
-            psi0: [motion.choice.phase1, motion.choice.phase2].map(|p| Float::with_val(bits, p)),
-            nu: motion.frequencies(),
-            two_pi: Float::with_val(bits, rug::float::Constant::Pi) * 2u32,
+            psi0,
+            nu,
+            two_pi,
+            clock_dd,
             normal: NormalSummary {
                 kind: n.kind,
                 lambda2: n.lambda2.to_f64(),
@@ -427,6 +461,31 @@ impl Geometry {
         exact: &State<Float>,
     ) -> Option<SampleGeometry> {
         matches!(self.precision, Precision::F64(_)).then(|| self.geometry_of(t, state, exact))
+    }
+
+    /// [`Geometry::evaluate`] of an f64 sample (time `t`, state `x`) against the exact state in
+    /// double-double: ψ(exact) = ψ⁰ + νt reduced mod 2π in double-double (106 bits; the MPFR
+    /// clock's value rounded to f64 is the same but within 2⁻¹⁰⁰ of a rounding boundary).
+    /// `None` when the geometry runs in MPFR.
+    pub fn evaluate_f64(
+        &self,
+        t: f64,
+        x: &[f64; DIM],
+        exact: &State<DoubleDouble>,
+    ) -> Option<SampleGeometry> {
+        let Precision::F64(inner) = &self.precision else {
+            return None;
+        };
+        let c = &self.clock_dd;
+        let t = DoubleDouble::from_f64_exact(t);
+        let psi_exact: [f64; 2] = std::array::from_fn(|i| {
+            let p = c.nu[i] * t + c.psi0[i];
+            let turns = (p / c.two_pi).floor();
+            (p - turns * c.two_pi).to_f64()
+        });
+        let exact = exact.to_array().map(|v| v.to_f64());
+        let state = State::from_slice(x);
+        Some(inner.sample_in(state.clone(), exact, psi_exact, &state))
     }
 
     /// Record the next sample's geometry from [`Geometry::evaluate`] (what

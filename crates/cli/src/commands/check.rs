@@ -9,7 +9,8 @@ use anyhow::{anyhow, bail, Context};
 use clap::Args as ClapArgs;
 use serde::Serialize;
 
-use rsts_external::{Survey, TrajectoryReader};
+use rsts_dynamics::State;
+use rsts_external::{F64Chunk, Survey, TrajectoryReader};
 use rsts_harness::events::{exact_event_times, match_events, parse_detected, EventMatchReport};
 use rsts_harness::{CheckReport, CheckRequest, CheckStream, GivenMotion};
 
@@ -115,11 +116,16 @@ pub enum InputFormat {
     Npy,
 }
 
+/// The first chunk of a trajectory: as f64 numbers for f64 data (analysed in double-double),
+/// as read otherwise (high-precision data).
+enum FirstChunk {
+    F64(F64Chunk),
+    Read(rsts_external::RawTrajectory),
+}
+
 /// The trajectory of FILE (read through once first: its survey), or of standard input for `-`
 /// (surveyed from its first chunk), and its first chunk.
-fn open_input(
-    args: &Args,
-) -> anyhow::Result<(TrajectoryReader, Survey, rsts_external::RawTrajectory)> {
+fn open_input(args: &Args) -> anyhow::Result<(TrajectoryReader, Survey, FirstChunk)> {
     use rsts_external::FileFormat;
     let (mut reader, survey) = if args.file.as_os_str() != "-" {
         if args.input_format.is_some() {
@@ -142,11 +148,26 @@ fn open_input(
             TrajectoryReader::from_reader(input, format, "<stdin>").map_err(|e| anyhow!("{e}"))?;
         (reader, None)
     };
+    if let Some(survey) = survey.filter(|s| !s.is_high_precision()) {
+        let mut first = F64Chunk::default();
+        if !reader
+            .next_chunk_f64(&mut first)
+            .map_err(|e| anyhow!("{e}"))?
+        {
+            bail!("no samples");
+        }
+        return Ok((reader, survey, FirstChunk::F64(first)));
+    }
     let first = reader
         .next_chunk()
         .map_err(|e| anyhow!("{e}"))?
         .context("no samples")?;
     let survey = survey.unwrap_or_else(|| reader.survey_of_first(&first));
+    let first = if survey.is_high_precision() {
+        FirstChunk::Read(first)
+    } else {
+        FirstChunk::F64(F64Chunk::of_raw(&first))
+    };
     Ok((reader, survey, first))
 }
 
@@ -237,15 +258,20 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         None => 15,
     };
     let bits = request.reference_bits();
-    let samples = first.to_samples_at(bits, high);
-    drop(first);
-    let start = rsts_harness::Check::start(
-        &request,
-        &samples.times[0],
-        &samples.states[0],
-        survey.extent,
-    )
-    .map_err(|e| {
+    let (t0, state0) = match &first {
+        FirstChunk::F64(c) => {
+            let wide = |x: &f64| rug::Float::with_val(bits, *x);
+            (
+                wide(&c.times[0]),
+                State::from_slice(&c.states[0].each_ref().map(wide)),
+            )
+        }
+        FirstChunk::Read(raw) => {
+            let s = raw.to_samples_at(bits, high);
+            (s.times[0].clone(), s.states[0].clone())
+        }
+    };
+    let start = rsts_harness::Check::start(&request, &t0, &state0, survey.extent).map_err(|e| {
         if request.motion.is_some() {
             case_error(e)
         } else {
@@ -270,13 +296,29 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let mut stream = CheckStream::new(start);
     // Chunk after chunk: the reference of a chunk in parallel, its samples recorded in order.
     let analysed = pool.install(|| -> anyhow::Result<()> {
-        let more = stream
-            .feed(&samples.times, &samples.states, &mut observer)
-            .map_err(|e| anyhow!("{e}"))?;
-        drop(samples);
-        if more {
-            rsts_external::check_rest(&mut reader, &mut stream, bits, high, &mut observer)
-                .map_err(|e| anyhow!("{e}"))?;
+        match first {
+            FirstChunk::F64(chunk) => {
+                let more = stream
+                    .feed_f64(&chunk.times, &chunk.states, &mut observer)
+                    .map_err(|e| anyhow!("{e}"))?;
+                drop(chunk);
+                if more {
+                    rsts_external::check_rest_f64(&mut reader, &mut stream, &mut observer)
+                        .map_err(|e| anyhow!("{e}"))?;
+                }
+            }
+            FirstChunk::Read(raw) => {
+                let samples = raw.to_samples_at(bits, high);
+                drop(raw);
+                let more = stream
+                    .feed(&samples.times, &samples.states, &mut observer)
+                    .map_err(|e| anyhow!("{e}"))?;
+                drop(samples);
+                if more {
+                    rsts_external::check_rest(&mut reader, &mut stream, bits, high, &mut observer)
+                        .map_err(|e| anyhow!("{e}"))?;
+                }
+            }
         }
         Ok(())
     });

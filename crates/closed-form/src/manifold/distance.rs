@@ -17,6 +17,7 @@
 
 use rsts_dynamics::dual::Dual;
 use rsts_dynamics::integrals::integrals;
+use rsts_dynamics::jet::Jet;
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::vec3::cross;
 use rsts_dynamics::{Fields, Real, State};
@@ -60,21 +61,17 @@ impl PhaseFunction for Phi {
     }
 }
 
-/// ∂F/∂(ω, α, β) at a state, by nine forward derivatives.
+/// ∂F/∂(ω, α, β) at a state, by nine forward derivatives in one evaluation over a [`Jet`]
+/// (each the dual-number derivative of its direction, bit for bit).
 pub fn gradient<T: Real, F: PhaseFunction>(f: &F, fields: &Fields<T>, s: &State<T>) -> [T; DIM] {
-    let lift = |x: &T| Dual::constant(x.clone());
-    let dual_fields = Fields {
+    let lift = |x: &T| Jet::constant(x.clone());
+    let jet_fields = Fields {
         a: lift(&fields.a),
         b: lift(&fields.b),
     };
     let x = s.to_array();
-    std::array::from_fn(|k| {
-        let seeded: [Dual<T>; DIM] = std::array::from_fn(|j| {
-            let one = if j == k { 1.0 } else { 0.0 };
-            Dual::new(x[j].clone(), x[j].lit(one))
-        });
-        f.eval(&dual_fields, &State::from_slice(&seeded)).eps
-    })
+    let seeded: [Jet<T, DIM>; DIM] = std::array::from_fn(|k| Jet::variable(x[k].clone(), k));
+    f.eval(&jet_fields, &State::from_slice(&seeded)).eps
 }
 
 /// The Hamiltonian vector field of a function with gradient `grad` (in ω, α, β), written as the

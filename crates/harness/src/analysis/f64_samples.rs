@@ -1,0 +1,92 @@
+//! The analysis of f64 data kept in f64 (`rsts check` of an f64 file): no MPFR number per
+//! value. The exact state comes from the closed form in double-double, and everything measured
+//! against it — the errors, H, K, G, the correct digits, the geometry's clock — is computed in
+//! double-double (106 bits, 53 beyond the data; docs/closed-form.md, "Why the reported error of
+//! f64 data is still the data's"). The report is that of [`Analysis::sample_all`] of the same
+//! samples widened to MPFR, but for a value within 2⁻¹⁰⁰ of an f64 rounding boundary.
+
+use rayon::prelude::*;
+use rug::Float;
+
+use rsts_dynamics::scalar::DoubleDouble;
+use rsts_dynamics::state::DIM;
+use rsts_dynamics::State;
+
+use super::{Analysis, DdMeasure, Evaluated, Observer, BATCH};
+use crate::metrics::{sample_errors, SampleErrors};
+use crate::rounded_reference::DdReference;
+use crate::HarnessError;
+
+impl Analysis {
+    /// [`Analysis::sample_all`] of f64 samples: `times` and one state (ω, α, β) per time. In
+    /// double-double for data of at most 16 digits (the analysis made by
+    /// [`Analysis::for_case`]); otherwise the samples are widened to the reference precision.
+    pub fn sample_all_f64(
+        &mut self,
+        times: &[f64],
+        states: &[[f64; DIM]],
+        observer: &mut dyn Observer,
+    ) -> Result<Option<SampleErrors>, HarnessError> {
+        if times.len() != states.len() {
+            return Err(HarnessError::Case(format!(
+                "{} times and {} states",
+                times.len(),
+                states.len()
+            )));
+        }
+        if self.dd.is_none() || self.dd_measure.is_none() {
+            let bits = self.bits;
+            let wide = |x: &f64| Float::with_val(bits, *x);
+            let t: Vec<Float> = times.iter().map(wide).collect();
+            let s: Vec<State<Float>> = states
+                .iter()
+                .map(|x| State::from_slice(&x.each_ref().map(wide)))
+                .collect();
+            return self.sample_all(&t, &s, observer);
+        }
+        let mut first = None;
+        for (tc, sc) in times.chunks(BATCH).zip(states.chunks(BATCH)) {
+            if observer.should_stop() {
+                self.mark_incomplete();
+                break;
+            }
+            let me = &*self;
+            let (Some(dd), Some(m)) = (me.dd.as_ref(), me.dd_measure.as_ref()) else {
+                unreachable!("checked above")
+            };
+            let evaluated: Vec<Evaluated> = tc
+                .par_iter()
+                .zip(sc)
+                .map(|(t, x)| me.evaluate_f64(dd, m, *t, x))
+                .collect();
+            for (t, ev) in tc.iter().zip(evaluated) {
+                if observer.should_stop() {
+                    self.mark_incomplete();
+                    return Ok(first);
+                }
+                let e = self.record(*t, None, ev, observer)?;
+                first.get_or_insert(e);
+            }
+        }
+        Ok(first)
+    }
+
+    /// What an f64 sample's errors are, in double-double, apart from the samples before it.
+    fn evaluate_f64(&self, dd: &DdReference, m: &DdMeasure, t: f64, x: &[f64; DIM]) -> Evaluated {
+        let exact = dd.state(t);
+        let state = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
+        let (errors, ex, int) =
+            sample_errors(&m.fields, &m.n, &m.initial_integrals, &exact, &state);
+        let geometry = self
+            .geometry
+            .as_ref()
+            .and_then(|g| g.evaluate_f64(t, x, &exact));
+        Evaluated {
+            exact: None,
+            errors,
+            digits: crate::digits::sample_errors_dd(&exact, x, self.digits.ratio()),
+            snapshots: (ex, int),
+            geometry,
+        }
+    }
+}
