@@ -5,7 +5,9 @@
 use serde_json::Value;
 
 mod common;
-use common::{adapter_command, adapter_rk4, command_json, exit_2, json_doc, python_with, rsts_command};
+use common::{
+    adapter_command, adapter_rk4, command_json, exit_2, json_doc, python_with, rsts_command,
+};
 
 fn compare(args: &[&str]) -> Value {
     let mut all = vec!["--t-end", "5", "--samples", "11"];
