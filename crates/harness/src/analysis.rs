@@ -34,6 +34,11 @@ pub trait Observer {
     fn on_sample(&mut self, _record: &SampleRecord) -> Result<(), String> {
         Ok(())
     }
+    /// False when the records' `exact` and `integrated` states are not looked at: they are then
+    /// not computed (NaN, [`StateSnapshot::NAN`]), only the errors are.
+    fn wants_states(&self) -> bool {
+        true
+    }
     /// Checked between pieces of an integration and between samples of an analysis: true stops
     /// the run (the report then has `complete: false`).
     fn should_stop(&self) -> bool {
@@ -43,7 +48,11 @@ pub trait Observer {
 
 /// An observer that does nothing.
 pub struct NoObserver;
-impl Observer for NoObserver {}
+impl Observer for NoObserver {
+    fn wants_states(&self) -> bool {
+        false
+    }
+}
 
 /// Who produced the trajectory, as the report shows it.
 #[derive(Clone, Debug, PartialEq)]
@@ -85,7 +94,8 @@ struct Evaluated {
     errors: SampleErrors,
     /// The relative and the mixed error of the correct digits ([`crate::digits`]).
     digits: (f64, f64),
-    snapshots: (StateSnapshot, StateSnapshot),
+    /// The exact and the integrated state as logged (when the observer wants them).
+    snapshots: Option<[StateSnapshot; 2]>,
     geometry: Option<crate::geometry::SampleGeometry>,
 }
 
@@ -185,11 +195,13 @@ impl Analysis {
 
     /// The exact state and the errors of an f64 sample (time and state f64 exactly) in
     /// double-double; `None` for other samples (or data of more than 16 digits).
+    #[allow(clippy::type_complexity)]
     fn errors_dd(
         &self,
         t: &Float,
         state: &State<Float>,
-    ) -> Option<(State<Float>, (SampleErrors, StateSnapshot, StateSnapshot))> {
+        snapshots: bool,
+    ) -> Option<(State<Float>, (SampleErrors, Option<[StateSnapshot; 2]>))> {
         let (dd, m) = (self.dd.as_ref()?, self.dd_measure.as_ref()?);
         let is_f64 = |x: &Float| x.to_f64() == *x;
         let mut all = state.omega.iter().chain(&state.alpha).chain(&state.beta);
@@ -198,7 +210,7 @@ impl Analysis {
         }
         let exact = dd.state(t.to_f64());
         let x = state.map(|v| DoubleDouble::from_f64_exact(v.to_f64()));
-        let errors = sample_errors(&m.fields, &m.n, &m.initial_integrals, &exact, &x);
+        let errors = sample_errors(&m.fields, &m.n, &m.initial_integrals, &exact, &x, snapshots);
         Some((exact.map(|v| v.to_float(self.bits)), errors))
     }
 
@@ -253,7 +265,7 @@ impl Analysis {
         state: &State<Float>,
         observer: &mut dyn Observer,
     ) -> Result<SampleErrors, HarnessError> {
-        let evaluated = self.evaluate(t, state);
+        let evaluated = self.evaluate(t, state, observer.wants_states());
         self.record(t.to_f64(), Some((t, state)), evaluated, observer)
     }
 
@@ -274,10 +286,11 @@ impl Analysis {
                 break;
             }
             let me = &*self;
+            let states = observer.wants_states();
             let evaluated: Vec<Evaluated> = tc
                 .par_iter()
                 .zip(sc)
-                .map(|(t, s)| me.evaluate(t, s))
+                .map(|(t, s)| me.evaluate(t, s, states))
                 .collect();
             for ((t, s), ev) in tc.iter().zip(sc).zip(evaluated) {
                 if observer.should_stop() {
@@ -292,8 +305,8 @@ impl Analysis {
     }
 
     /// What a sample's errors are, apart from the samples before it.
-    fn evaluate(&self, t: &Float, state: &State<Float>) -> Evaluated {
-        let (exact, (errors, ex, int)) = match self.errors_dd(t, state) {
+    fn evaluate(&self, t: &Float, state: &State<Float>, snapshots: bool) -> Evaluated {
+        let (exact, (errors, snapshots)) = match self.errors_dd(t, state, snapshots) {
             Some(dd) => dd,
             None => {
                 let exact = self.exact_state(t);
@@ -303,6 +316,7 @@ impl Analysis {
                     &self.initial_integrals,
                     &exact,
                     state,
+                    snapshots,
                 );
                 (exact, errors)
             }
@@ -315,7 +329,7 @@ impl Analysis {
             digits: crate::digits::sample_errors(&exact, state, self.digits.ratio()),
             exact: Some(exact),
             errors,
-            snapshots: (ex, int),
+            snapshots,
             geometry,
         }
     }
@@ -333,9 +347,10 @@ impl Analysis {
             exact,
             mut errors,
             digits,
-            snapshots: (ex, int),
+            snapshots,
             geometry,
         } = evaluated;
+        let [ex, int] = snapshots.unwrap_or([StateSnapshot::NAN; 2]);
         let state_error = errors.state_error;
         let geometry = match (geometry, self.geometry.as_mut()) {
             (Some(g), Some(geometry)) => {

@@ -3,7 +3,7 @@
 use rsts_closed_form::ExplicitState;
 use rsts_dynamics::integrals::integrals;
 use rsts_dynamics::integrators::Stats;
-use rsts_dynamics::vec3::{mul_bt, rotation_angle, Mat3, Vec3};
+use rsts_dynamics::vec3::{mat_vec, mul_bt, rotation_angle, Mat3, Vec3};
 use rsts_dynamics::{Fields, Real, State};
 use rug::Float;
 use serde::Serialize;
@@ -21,6 +21,19 @@ pub struct StateSnapshot {
     pub h: f64,
     pub k: f64,
     pub g: f64,
+}
+
+impl StateSnapshot {
+    /// The snapshot not computed (an observer that does not want states,
+    /// [`crate::Observer::wants_states`]): NaN throughout.
+    pub const NAN: Self = Self {
+        q: [[f64::NAN; 3]; 3],
+        omega: [f64::NAN; 3],
+        omega_fixed: [f64::NAN; 3],
+        h: f64::NAN,
+        k: f64::NAN,
+        g: f64::NAN,
+    };
 }
 
 /// Errors of the integrated motion at one sample.
@@ -185,13 +198,13 @@ fn f3<T: Real>(v: &Vec3<T>) -> [f64; 3] {
     v.clone().map(|x| x.to_f64())
 }
 
-/// The snapshot of `s` whose H, K, G are `hkg` (computed once per sample by the caller).
-fn snapshot<T: Real>(s: &State<T>, hkg: [&T; 3]) -> StateSnapshot {
-    let q = s.orientation();
+/// The snapshot of `s` whose orientation is `q` and whose H, K, G are `hkg` (both computed
+/// once per sample by the caller).
+fn snapshot<T: Real>(s: &State<T>, q: &Mat3<T>, hkg: [&T; 3]) -> StateSnapshot {
     StateSnapshot {
         q: q.clone().map(|r| f3(&r)),
         omega: f3(&s.omega),
-        omega_fixed: f3(&s.omega_fixed()),
+        omega_fixed: f3(&mat_vec(q, &s.omega)),
         h: hkg[0].to_f64(),
         k: hkg[1].to_f64(),
         g: hkg[2].to_f64(),
@@ -216,20 +229,24 @@ pub(crate) struct ManifoldN<T = Float> {
 }
 
 /// Errors at one sample, at the reference precision or in double-double for f64 data (the one
-/// place where per-sample errors are computed; [`Report::absorb`] summarises them).
+/// place where per-sample errors are computed; [`Report::absorb`] summarises them), and with
+/// `snapshots` the exact and the integrated state as logged.
+#[inline]
 pub(crate) fn sample_errors<T: Real>(
     fields: &Fields<T>,
     n: &ManifoldN<T>,
     initial_integrals: &[T; 3],
     exact: &State<T>,
     integrated: &State<T>,
-) -> (SampleErrors, StateSnapshot, StateSnapshot) {
+    snapshots: bool,
+) -> (SampleErrors, Option<[StateSnapshot; 2]>) {
     let x = integrated.to_array();
     let y = exact.to_array();
     let state_error = (0..9)
         .map(|k| (x[k].clone() - &y[k]).abs())
         .fold(x[0].zero_like(), |a, b| a.max_of(b));
-    let r: Mat3<T> = mul_bt(&integrated.orientation(), &exact.orientation());
+    let (q_int, q_ex) = (integrated.orientation(), exact.orientation());
+    let r: Mat3<T> = mul_bt(&q_int, &q_ex);
     let ints = integrals(fields, integrated);
     let two = x[0].lit(2.0);
     let off_k = (ints.k.clone() - &n.k).abs();
@@ -248,17 +265,13 @@ pub(crate) fn sample_errors<T: Real>(
         along_n: f64::NAN,
         phase_error: [f64::NAN; 2],
     };
-    (
-        errors,
-        // The exact motion's H, K, G are its constants: those at t = 0.
-        snapshot(
-            exact,
-            [
-                &initial_integrals[0],
-                &initial_integrals[1],
-                &initial_integrals[2],
-            ],
-        ),
-        snapshot(integrated, [&ints.h, &ints.k, &ints.g]),
-    )
+    let snapshots = snapshots.then(|| {
+        let i0 = initial_integrals;
+        [
+            // The exact motion's H, K, G are its constants: those at t = 0.
+            snapshot(exact, &q_ex, [&i0[0], &i0[1], &i0[2]]),
+            snapshot(integrated, &q_int, [&ints.h, &ints.k, &ints.g]),
+        ]
+    });
+    (errors, snapshots)
 }

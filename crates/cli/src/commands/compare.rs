@@ -182,6 +182,10 @@ fn body(s: &rsts_harness::StateSnapshot) -> BodyState {
 }
 
 impl Observer for CliObserver {
+    /// The states are logged, not shown.
+    fn wants_states(&self) -> bool {
+        self.log.is_some()
+    }
     fn on_sample(&mut self, r: &SampleRecord) -> Result<(), String> {
         if let Some(log) = &mut self.log {
             let e = &r.errors;

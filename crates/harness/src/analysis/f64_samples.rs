@@ -51,13 +51,14 @@ impl Analysis {
                 break;
             }
             let me = &*self;
+            let states = observer.wants_states();
             let (Some(dd), Some(m)) = (me.dd.as_ref(), me.dd_measure.as_ref()) else {
                 unreachable!("checked above")
             };
             let evaluated: Vec<Evaluated> = tc
                 .par_iter()
                 .zip(sc)
-                .map(|(t, x)| me.evaluate_f64(dd, m, *t, x))
+                .map(|(t, x)| me.evaluate_f64(dd, m, *t, x, states))
                 .collect();
             for (t, ev) in tc.iter().zip(evaluated) {
                 if observer.should_stop() {
@@ -72,11 +73,24 @@ impl Analysis {
     }
 
     /// What an f64 sample's errors are, in double-double, apart from the samples before it.
-    fn evaluate_f64(&self, dd: &DdReference, m: &DdMeasure, t: f64, x: &[f64; DIM]) -> Evaluated {
+    fn evaluate_f64(
+        &self,
+        dd: &DdReference,
+        m: &DdMeasure,
+        t: f64,
+        x: &[f64; DIM],
+        snapshots: bool,
+    ) -> Evaluated {
         let exact = dd.state(t);
         let state = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
-        let (errors, ex, int) =
-            sample_errors(&m.fields, &m.n, &m.initial_integrals, &exact, &state);
+        let (errors, snapshots) = sample_errors(
+            &m.fields,
+            &m.n,
+            &m.initial_integrals,
+            &exact,
+            &state,
+            snapshots,
+        );
         let geometry = self
             .geometry
             .as_ref()
@@ -85,7 +99,7 @@ impl Analysis {
             exact: None,
             errors,
             digits: crate::digits::sample_errors_dd(&exact, x, self.digits.ratio()),
-            snapshots: (ex, int),
+            snapshots,
             geometry,
         }
     }
