@@ -46,6 +46,12 @@ impl Survey {
         self.digits > F64_TEXT_DIGITS
     }
 
+    /// Widen the extent to the times of a chunk read (an npy's extent is not surveyed
+    /// beforehand: that of its first chunk, [`TrajectoryReader::open_surveyed`]).
+    pub fn add_times(&mut self, times: &[f64]) {
+        self.extent = times.iter().fold(self.extent, |m, t| m.max(t.abs()));
+    }
+
     fn add(&mut self, raw: &RawTrajectory) {
         self.digits = self.digits.max(raw.digits());
         self.extent = raw
@@ -80,11 +86,15 @@ enum Rows {
         buf: Vec<u8>,
     },
     Npy {
-        values: npyz::NpyReader<f64, Box<dyn Read + Send>>,
+        /// The data after the header (C order, float64 of `big_endian` byte order).
+        input: Box<dyn Read + Send>,
+        big_endian: bool,
         rows: usize,
         width: usize,
         next: usize,
         row: Vec<f64>,
+        /// The bytes of one row.
+        bytes: Vec<u8>,
     },
     Whole {
         rows: usize,
@@ -110,11 +120,21 @@ impl TrajectoryReader {
     }
 
     /// Open a file and read it through once: its survey (rows, digits, extent; every row
-    /// checked), and a reader at its start.
+    /// checked), and a reader at its start. A C-order npy is not read through: its header
+    /// says the rows, its values are binary64 (no digits), and its extent is left at 0 (the
+    /// reference reaches further as the rows come, as for a stream).
     pub fn open_surveyed(path: &Path) -> Result<(Self, Survey), String> {
         let mut first = Self::open(path)?;
         if let Rows::Whole { survey, .. } = first.rows {
             // Read whole already: surveyed where it is.
+            return Ok((first, survey));
+        }
+        if let Rows::Npy { rows, .. } = first.rows {
+            let survey = Survey {
+                rows: Some(rows),
+                digits: 0,
+                extent: 0.0,
+            };
             return Ok((first, survey));
         }
         // Read as f64 (digits counted, every row checked): one parse per value.
@@ -156,12 +176,16 @@ impl TrajectoryReader {
                     let raw = npy_rows(&data, shape).map_err(|e| format!("{name}: {e}"))?;
                     return Self::whole(raw, name);
                 }
+                let big_endian =
+                    matches!(npy.dtype(), npyz::DType::Plain(ts) if ts.to_string() == ">f8");
                 Rows::Npy {
-                    values: npy.data().map_err(|e| format!("{name}: {e}"))?,
+                    input: npy.into_inner(),
+                    big_endian,
                     rows: shape.rows,
                     width: shape.width,
                     next: 0,
                     row: Vec::with_capacity(shape.width),
+                    bytes: vec![0; 8 * shape.width],
                 }
             }
             FileFormat::Json | FileFormat::Mcap => {
@@ -322,11 +346,13 @@ impl Rows {
     /// Read the next row of an npy array into its `row`: its index, `None` after the last.
     fn next_npy_row(&mut self) -> Result<Option<usize>, String> {
         let Rows::Npy {
-            values,
+            input,
+            big_endian,
             rows,
             width,
             next,
             row,
+            bytes,
         } = self
         else {
             return Ok(None);
@@ -334,18 +360,19 @@ impl Rows {
         if *next >= *rows {
             return Ok(None);
         }
+        // One read per row (not per value).
+        input.read_exact(bytes).map_err(|e| {
+            format!("truncated or damaged data: {e} (expected {rows} rows of {width} float64)")
+        })?;
         row.clear();
-        for _ in 0..*width {
-            let v = values.next().unwrap_or_else(|| {
-                Err(std::io::Error::new(
-                    std::io::ErrorKind::UnexpectedEof,
-                    "no more values",
-                ))
-            });
-            row.push(v.map_err(|e| {
-                format!("truncated or damaged data: {e} (expected {rows} rows of {width} float64)")
-            })?);
-        }
+        row.extend(bytes.chunks_exact(8).map(|b| {
+            let b: [u8; 8] = b.try_into().expect("8 bytes");
+            if *big_endian {
+                f64::from_be_bytes(b)
+            } else {
+                f64::from_le_bytes(b)
+            }
+        }));
         *next += 1;
         Ok(Some(*next - 1))
     }

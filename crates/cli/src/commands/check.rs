@@ -148,7 +148,7 @@ fn open_input(args: &Args) -> anyhow::Result<(TrajectoryReader, Survey, FirstChu
             TrajectoryReader::from_reader(input, format, "<stdin>").map_err(|e| anyhow!("{e}"))?;
         (reader, None)
     };
-    if let Some(survey) = survey.filter(|s| !s.is_high_precision()) {
+    if let Some(mut survey) = survey.filter(|s| !s.is_high_precision()) {
         let mut first = F64Chunk::default();
         if !reader
             .next_chunk_f64(&mut first)
@@ -156,6 +156,7 @@ fn open_input(args: &Args) -> anyhow::Result<(TrajectoryReader, Survey, FirstChu
         {
             bail!("no samples");
         }
+        survey.add_times(&first.times);
         return Ok((reader, survey, FirstChunk::F64(first)));
     }
     let first = reader
