@@ -13,7 +13,7 @@ use rsts_dynamics::state::DIM;
 use rsts_dynamics::State;
 
 use super::{Analysis, DdMeasure, Evaluated, Observer, BATCH};
-use crate::metrics::{sample_errors, SampleErrors};
+use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
 use crate::rounded_reference::DdReference;
 use crate::HarnessError;
 
@@ -82,15 +82,7 @@ impl Analysis {
         snapshots: bool,
     ) -> Evaluated {
         let exact = dd.state(t);
-        let state = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
-        let (errors, snapshots) = sample_errors(
-            &m.fields,
-            &m.n,
-            &m.initial_integrals,
-            &exact,
-            &state,
-            snapshots,
-        );
+        let (errors, snapshots, digits) = measure(m, &exact, x, self.digits.ratio(), snapshots);
         let geometry = self
             .geometry
             .as_ref()
@@ -98,9 +90,65 @@ impl Analysis {
         Evaluated {
             exact: None,
             errors,
-            digits: crate::digits::sample_errors_dd(&exact, x, self.digits.ratio()),
+            digits,
             snapshots,
             geometry,
         }
     }
+}
+
+/// What [`measure_portable`] returns: the errors, the snapshots (when asked) and the relative
+/// and mixed error of the correct digits.
+type Measured = (SampleErrors, Option<[StateSnapshot; 2]>, (f64, f64));
+
+/// The errors of f64 data `x` against the exact state in double-double: with the fused
+/// multiply-add of the processor where it has one (the same numbers: an FMA rounds once
+/// either way; without it each `mul_add` of double-double is a call to the library's).
+fn measure(
+    m: &DdMeasure,
+    exact: &State<DoubleDouble>,
+    x: &[f64; DIM],
+    ratio: f64,
+    snapshots: bool,
+) -> Measured {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("fma") {
+        // SAFETY: the processor has FMA (checked just above).
+        return unsafe { measure_fma(m, exact, x, ratio, snapshots) };
+    }
+    measure_portable(m, exact, x, ratio, snapshots)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+unsafe fn measure_fma(
+    m: &DdMeasure,
+    exact: &State<DoubleDouble>,
+    x: &[f64; DIM],
+    ratio: f64,
+    snapshots: bool,
+) -> Measured {
+    measure_portable(m, exact, x, ratio, snapshots)
+}
+
+/// [`sample_errors`] and [`crate::digits::sample_errors_dd`] of one f64 sample.
+#[inline(always)]
+fn measure_portable(
+    m: &DdMeasure,
+    exact: &State<DoubleDouble>,
+    x: &[f64; DIM],
+    ratio: f64,
+    snapshots: bool,
+) -> Measured {
+    let state = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
+    let (errors, snapshots) = sample_errors(
+        &m.fields,
+        &m.n,
+        &m.initial_integrals,
+        exact,
+        &state,
+        snapshots,
+    );
+    let digits = crate::digits::sample_errors_dd(exact, x, ratio);
+    (errors, snapshots, digits)
 }
