@@ -90,12 +90,12 @@ const BATCH: usize = 4096;
 struct Evaluated {
     /// The exact state at the reference precision, for the MPFR geometry ([`Geometry::sample`]
     /// computes it in time order); `None` for the f64 samples of [`Analysis::sample_all_f64`].
-    exact: Option<State<Float>>,
+    exact: Option<Box<State<Float>>>,
     errors: SampleErrors,
     /// The relative and the mixed error of the correct digits ([`crate::digits`]).
     digits: (f64, f64),
     /// The exact and the integrated state as logged (when the observer wants them).
-    snapshots: Option<[StateSnapshot; 2]>,
+    snapshots: Option<Box<[StateSnapshot; 2]>>,
     geometry: Option<crate::geometry::SampleGeometry>,
 }
 
@@ -266,7 +266,9 @@ impl Analysis {
         observer: &mut dyn Observer,
     ) -> Result<SampleErrors, HarnessError> {
         let evaluated = self.evaluate(t, state, observer.wants_states());
-        self.record(t.to_f64(), Some((t, state)), evaluated, observer)
+        let errors = self.record(t.to_f64(), Some((t, state)), evaluated, observer);
+        self.update_digits();
+        errors
     }
 
     /// Analyse samples in time order as [`Analysis::sample`] does one by one, evaluating them
@@ -295,13 +297,21 @@ impl Analysis {
             for ((t, s), ev) in tc.iter().zip(sc).zip(evaluated) {
                 if observer.should_stop() {
                     self.mark_incomplete();
+                    self.update_digits();
                     return Ok(first);
                 }
                 let e = self.record(t.to_f64(), Some((t, s)), ev, observer)?;
                 first.get_or_insert(e);
             }
         }
+        self.update_digits();
         Ok(first)
+    }
+
+    /// The report's correct digits from the samples recorded (after a call's last sample:
+    /// not per sample, four logarithms each).
+    pub(crate) fn update_digits(&mut self) {
+        self.report.correct_digits = self.digits.summary();
     }
 
     /// What a sample's errors are, apart from the samples before it.
@@ -327,9 +337,9 @@ impl Analysis {
             .and_then(|g| g.evaluate(t, state, &exact));
         Evaluated {
             digits: crate::digits::sample_errors(&exact, state, self.digits.ratio()),
-            exact: Some(exact),
+            exact: Some(Box::new(exact)),
             errors,
-            snapshots,
+            snapshots: snapshots.map(Box::new),
             geometry,
         }
     }
@@ -350,7 +360,7 @@ impl Analysis {
             snapshots,
             geometry,
         } = evaluated;
-        let [ex, int] = snapshots.unwrap_or([StateSnapshot::NAN; 2]);
+        let [ex, int] = snapshots.map_or([StateSnapshot::NAN; 2], |s| *s);
         let state_error = errors.state_error;
         let geometry = match (geometry, self.geometry.as_mut()) {
             (Some(g), Some(geometry)) => {
@@ -373,7 +383,6 @@ impl Analysis {
         let index = self.report.samples_compared;
         self.report.absorb(&errors);
         self.digits.add(digits);
-        self.report.correct_digits = self.digits.summary();
         self.drifts.push(
             t,
             [

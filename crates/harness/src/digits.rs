@@ -68,19 +68,39 @@ pub fn sample_errors(exact: &State<Float>, state: &State<Float>, ratio: f64) -> 
 
 /// [`sample_errors`] of an f64 sample `x` against the exact state in double-double (the
 /// reference of f64 data: the same two numbers but within 2⁻¹⁰⁰ of an f64 rounding boundary).
+#[inline(always)]
 pub fn sample_errors_dd(exact: &State<DoubleDouble>, x: &[f64; 9], ratio: f64) -> (f64, f64) {
     let y = exact.to_array();
-    let mut relative = 0.0f64;
-    let mut mixed = 0.0f64;
-    for (x, y) in x.iter().zip(y.iter()) {
-        let d = (DoubleDouble::from_f64_exact(*x) - *y).abs();
-        let size = y.abs();
-        if size.to_f64() != 0.0 {
-            relative = relative.max((d / size).to_f64());
-        }
-        mixed = mixed.max((d / size.add_f64(ratio)).to_f64());
-    }
+    let d: [DoubleDouble; 9] =
+        std::array::from_fn(|k| (DoubleDouble::from_f64_exact(x[k]) - y[k]).abs());
+    let size = y.map(|y| y.abs());
+    let scale = size.map(|s| s.add_f64(ratio));
+    // Relative errors of 0 size have no scale: left out.
+    let relative = largest_quotient(&d, &size, |k| size[k].to_f64() != 0.0);
+    let mixed = largest_quotient(&d, &scale, |_| true);
     (relative, mixed)
+}
+
+/// max over the components `k` with `counted(k)` of d/s in double-double rounded to f64 (0
+/// for none). Each quotient is evaluated in double-double only where its f64 estimate
+/// d.hi/s.hi (relative error below 2⁻⁵⁰) is within 2⁻⁴⁸ of the largest estimate: the others
+/// are smaller, so the maximum is the same number, at a fraction of the divisions.
+#[inline(always)]
+fn largest_quotient(
+    d: &[DoubleDouble; 9],
+    s: &[DoubleDouble; 9],
+    counted: impl Fn(usize) -> bool,
+) -> f64 {
+    let estimate: [f64; 9] = std::array::from_fn(|k| d[k].hi / s[k].hi);
+    let top = (0..9)
+        .filter(|&k| counted(k))
+        .fold(0.0f64, |m, k| m.max(estimate[k]));
+    // Near the underflow or for a non-finite quotient the estimate is not trusted.
+    let trusted = top.is_finite() && top > 1e-280;
+    let floor = top * (1.0 - 2f64.powi(-48));
+    (0..9)
+        .filter(|&k| counted(k) && (!trusted || estimate[k] >= floor))
+        .fold(0.0f64, |m, k| m.max((d[k] / s[k]).to_f64()))
 }
 
 /// −log10 of an error: +∞ for no error.

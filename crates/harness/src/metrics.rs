@@ -231,7 +231,7 @@ pub(crate) struct ManifoldN<T = Float> {
 /// Errors at one sample, at the reference precision or in double-double for f64 data (the one
 /// place where per-sample errors are computed; [`Report::absorb`] summarises them), and with
 /// `snapshots` the exact and the integrated state as logged.
-#[inline]
+#[inline(always)]
 pub(crate) fn sample_errors<T: Real>(
     fields: &Fields<T>,
     n: &ManifoldN<T>,

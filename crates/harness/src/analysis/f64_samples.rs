@@ -63,12 +63,14 @@ impl Analysis {
             for (t, ev) in tc.iter().zip(evaluated) {
                 if observer.should_stop() {
                     self.mark_incomplete();
+                    self.update_digits();
                     return Ok(first);
                 }
                 let e = self.record(*t, None, ev, observer)?;
                 first.get_or_insert(e);
             }
         }
+        self.update_digits();
         Ok(first)
     }
 
@@ -91,7 +93,7 @@ impl Analysis {
             exact: None,
             errors,
             digits,
-            snapshots,
+            snapshots: snapshots.map(Box::new),
             geometry,
         }
     }
