@@ -56,9 +56,16 @@ impl Number {
 
 /// Digits of the mantissa of a decimal text, leading zeros not counted.
 pub fn significant_digits(s: &str) -> usize {
-    let mantissa = s.split(['e', 'E']).next().unwrap_or("");
+    significant_digits_of_bytes(s.as_bytes())
+}
+
+/// [`significant_digits`] of a text's bytes (an ASCII `e` is never part of a longer UTF-8
+/// character: the same count).
+pub fn significant_digits_of_bytes(s: &[u8]) -> usize {
+    let end = s.iter().position(|&b| b == b'e' || b == b'E');
+    let mantissa = &s[..end.unwrap_or(s.len())];
     // Counted without a copy: this runs on every value of a file.
-    let digits = || mantissa.bytes().filter(u8::is_ascii_digit);
+    let digits = || mantissa.iter().copied().filter(u8::is_ascii_digit);
     let leading = digits().take_while(|&d| d == b'0').count();
     let all = digits().count();
     (all - leading).max(1)

@@ -9,8 +9,8 @@ use rsts_harness::{CheckStream, Observer};
 use super::{csv_line, line_text, too_many, Rows, Survey, TrajectoryReader, CHUNK_ROWS};
 use crate::files::{npy_row, unquote, CsvHeader, COLUMNS};
 use crate::samples::{
-    check_component, comes_after, not_after, significant_digits, text_f64, Number, RawTrajectory,
-    F64_TEXT_DIGITS,
+    check_component, comes_after, not_after, significant_digits, significant_digits_of_bytes,
+    text_f64, Number, RawTrajectory, F64_TEXT_DIGITS,
 };
 
 /// Samples read as f64 numbers: times and states (ω, α, β).
@@ -207,8 +207,23 @@ impl Rows {
             return Ok(0);
         };
         let mut rows = 0;
+        // The column of each field (None: a field not read).
+        let mut column_of: Vec<Option<usize>> = Vec::new();
         while let Some(k) = csv_line(input, header, line, buf)? {
             let h = header.as_ref().expect("read before the rows");
+            if column_of.is_empty() {
+                let width = h.index.iter().max().map_or(0, |&i| i + 1);
+                column_of = (0..width)
+                    .map(|i| h.index.iter().position(|&j| j == i))
+                    .collect();
+            }
+            if buf.is_ascii() {
+                // The common case, on bytes: no UTF-8 check, no column search per field.
+                if scan_ascii_row(buf, &column_of, survey) {
+                    rows += 1;
+                }
+                continue;
+            }
             let text = line_text(buf, k)?;
             if text.trim().is_empty() || text.trim_start().starts_with('#') {
                 continue;
@@ -285,6 +300,33 @@ impl Rows {
             }
         }
     }
+}
+
+/// [`Rows::scan_csv`] of one ASCII line `buf`: false for a blank or comment line (blank as
+/// `str::trim` sees it: the ASCII white space of `char::is_whitespace`).
+fn scan_ascii_row(buf: &[u8], column_of: &[Option<usize>], survey: &mut Survey) -> bool {
+    let space = |b: &u8| matches!(b, 9..=13 | b' ');
+    let start = buf.iter().position(|b| !space(b));
+    let Some(start) = start else {
+        return false;
+    };
+    if buf[start] == b'#' {
+        return false;
+    }
+    for (i, field) in buf.split(|&b| b == b',').enumerate() {
+        let Some(Some(c)) = column_of.get(i) else {
+            continue;
+        };
+        // Quotes and white space have no digits: counted on the field as it is.
+        survey.digits = survey.digits.max(significant_digits_of_bytes(field));
+        if *c == 0 {
+            let t = std::str::from_utf8(field).map(|f| unquote(f).trim().parse::<f64>());
+            if let Ok(Ok(t)) = t {
+                survey.extent = survey.extent.max(t.abs());
+            }
+        }
+    }
+    true
 }
 
 /// The sample on CSV line `k` into `row` (false for a blank or comment line), each value
