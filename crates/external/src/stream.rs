@@ -18,6 +18,8 @@ use crate::samples::{comes_after, not_after, Number, RawTrajectory, F64_TEXT_DIG
 
 mod f64_rows;
 pub use f64_rows::{check_rest_f64, F64Chunk};
+#[cfg(test)]
+mod survey_tests;
 
 /// Rows per chunk.
 pub const CHUNK_ROWS: usize = 1 << 13;
@@ -318,15 +320,10 @@ impl Rows {
                 header,
                 line,
                 buf,
-            } => loop {
-                let Some(k) = csv_line(input, header, line, buf)? else {
-                    return Ok(None);
-                };
-                let h = header.as_ref().expect("read before the rows");
-                if let Some((t, state)) = h.row(k, line_text(buf, k)?)? {
-                    return Ok(Some((t, state, format!("line {k}"))));
-                }
-            },
+            } => {
+                let row = csv_row(input, header, line, buf, |h, k, text| h.row(k, text))?;
+                Ok(row.map(|(k, (t, state))| (t, state, format!("line {k}"))))
+            }
             Rows::Npy { .. } => {
                 let Some(r) = self.next_npy_row()? else {
                     return Ok(None);
@@ -375,6 +372,27 @@ impl Rows {
         }));
         *next += 1;
         Ok(Some(*next - 1))
+    }
+}
+
+/// The next row of a CSV stream after its header, read from its line's text by `read` (`None`:
+/// a blank or comment line, skipped): its line number and what `read` made of it; `None` at the
+/// end.
+fn csv_row<R>(
+    input: &mut Box<dyn BufRead + Send>,
+    header: &mut Option<CsvHeader>,
+    line: &mut usize,
+    buf: &mut Vec<u8>,
+    mut read: impl FnMut(&CsvHeader, usize, &str) -> Result<Option<R>, String>,
+) -> Result<Option<(usize, R)>, String> {
+    loop {
+        let Some(k) = csv_line(input, header, line, buf)? else {
+            return Ok(None);
+        };
+        let h = header.as_ref().expect("read before the rows");
+        if let Some(r) = read(h, k, line_text(buf, k)?)? {
+            return Ok(Some((k, r)));
+        }
     }
 }
 

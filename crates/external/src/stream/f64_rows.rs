@@ -6,7 +6,7 @@
 
 use rsts_harness::{CheckStream, Observer};
 
-use super::{csv_line, line_text, too_many, Rows, Survey, TrajectoryReader, CHUNK_ROWS};
+use super::{csv_line, csv_row, line_text, too_many, Rows, Survey, TrajectoryReader, CHUNK_ROWS};
 use crate::files::{npy_row, unquote, CsvHeader, COLUMNS};
 use crate::samples::{
     check_component, comes_after, not_after, significant_digits, significant_digits_of_bytes,
@@ -253,15 +253,11 @@ impl Rows {
                 header,
                 line,
                 buf,
-            } => loop {
-                let Some(k) = csv_line(input, header, line, buf)? else {
-                    return Ok(None);
-                };
-                let h = header.as_ref().expect("read before the rows");
-                if csv_row_f64(h, k, line_text(buf, k)?, row)? {
-                    return Ok(Some(Place::Line(k)));
-                }
-            },
+            } => {
+                let read =
+                    |h: &CsvHeader, k, text: &str| Ok(csv_row_f64(h, k, text, row)?.then_some(()));
+                Ok(csv_row(input, header, line, buf, read)?.map(|(k, ())| Place::Line(k)))
+            }
             Rows::Npy { .. } => {
                 let Some(r) = self.next_npy_row()? else {
                     return Ok(None);
