@@ -176,6 +176,65 @@ pub fn correct_digits(
 mod tests {
     use super::*;
 
+    /// The digits of f64 data against double-double, every quotient evaluated (what
+    /// `largest_quotient` skips some of).
+    fn every_quotient(exact: &State<DoubleDouble>, x: &[f64; 9], ratio: f64) -> (f64, f64) {
+        let y = exact.to_array();
+        let (mut relative, mut mixed) = (0.0f64, 0.0f64);
+        for (x, y) in x.iter().zip(y.iter()) {
+            let d = (DoubleDouble::from_f64_exact(*x) - *y).abs();
+            let size = y.abs();
+            if size.to_f64() != 0.0 {
+                relative = relative.max((d / size).to_f64());
+            }
+            mixed = mixed.max((d / size.add_f64(ratio)).to_f64());
+        }
+        (relative, mixed)
+    }
+
+    /// The quotients skipped by their f64 estimate never change the digits: bit for bit on
+    /// 20 000 random samples, with errors from 1e-18 to 1e-2, exact zeros, components of equal
+    /// quotients and quotients a few ulps apart.
+    #[test]
+    fn digits_of_f64_data_are_those_of_every_quotient() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for n in 0..20_000 {
+            let mut y = [DoubleDouble::from_f64_exact(0.0); 9];
+            let mut x = [0.0; 9];
+            for k in 0..9 {
+                let hi = 4.0 * uniform() - 2.0;
+                let lo = hi * 1e-17 * (uniform() - 0.5);
+                y[k] = DoubleDouble::from_f64_exact(hi).add_f64(lo);
+                let error = 10f64.powf(-18.0 + 16.0 * uniform()) * (uniform() - 0.5);
+                x[k] = hi + error;
+            }
+            match n % 4 {
+                // An exact zero component.
+                1 => (y[4], x[4]) = (DoubleDouble::from_f64_exact(0.0), 1e-12 * uniform()),
+                // Two components with the same quotient.
+                2 => (y[7], x[7]) = (y[2], x[2]),
+                // Quotients a few ulps apart.
+                3 => (y[5], x[5]) = (y[1], f64::from_bits(x[1].to_bits() + 1)),
+                _ => {}
+            }
+            let exact = State::from_slice(&y);
+            let ratio = [1.0, 1e-3, 0.0][n % 3];
+            let fast = sample_errors_dd(&exact, &x, ratio);
+            let slow = every_quotient(&exact, &x, ratio);
+            assert_eq!(
+                (fast.0.to_bits(), fast.1.to_bits()),
+                (slow.0.to_bits(), slow.1.to_bits()),
+                "sample {n}: {fast:?} vs {slow:?}"
+            );
+        }
+    }
+
     fn state(values: [f64; 9]) -> State<Float> {
         let f = |k: usize| Float::with_val(200, values[k]);
         State {
