@@ -6,6 +6,7 @@
 pub mod distance;
 pub mod identify;
 pub mod normal;
+pub mod phi_field;
 pub mod project;
 pub mod relations;
 pub mod torus_map;
