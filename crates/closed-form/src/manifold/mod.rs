@@ -9,6 +9,7 @@ pub mod normal;
 pub mod phi_field;
 pub mod project;
 pub mod relations;
+pub mod spectral;
 pub mod torus_map;
 
 pub use distance::{distance, DistanceFromN};
