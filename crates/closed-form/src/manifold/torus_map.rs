@@ -255,18 +255,21 @@ pub(crate) fn seeded<T: Real>(
     } else {
         (zero.clone(), one)
     };
-    let motion = ExplicitMotion::<Dual<T>>::build(
-        Dual::constant(a.clone()),
-        Dual::constant(b.clone()),
-        Dual::new(m.clone(), dm),
-        Dual::new(h.clone(), dh),
-        TorusChoice {
-            torus,
-            phase1: 0.0,
-            phase2: 0.0,
-        },
-    )?;
-    Ok(TorusMap::of_motion(&motion))
+    let constant = |x: &T| Dual::constant(x.clone());
+    let (m, h) = (Dual::new(m.clone(), dm), Dual::new(h.clone(), dh));
+    torus_of([constant(a), constant(b), m, h], torus)
+}
+
+/// The torus `torus` of (m, h) over any scalar (seeded derivatives ride along).
+fn torus_of<S: Real>([a, b, m, h]: [S; 4], torus: usize) -> Result<TorusMap<S>, ClosedFormError> {
+    let choice = TorusChoice {
+        torus,
+        phase1: 0.0,
+        phase2: 0.0,
+    };
+    Ok(TorusMap::of_motion(&ExplicitMotion::build(
+        a, b, m, h, choice,
+    )?))
 }
 
 /// The torus `torus` of (m, h) built over jets seeded in m (direction 0) and h (direction 1): its
@@ -276,18 +279,9 @@ pub(crate) fn seeded_mh<T: Real>(
     [a, b, m, h]: [&T; 4],
     torus: usize,
 ) -> Result<TorusMap<Jet<T, 2>>, ClosedFormError> {
-    let motion = ExplicitMotion::<Jet<T, 2>>::build(
-        Jet::constant(a.clone()),
-        Jet::constant(b.clone()),
-        Jet::variable(m.clone(), 0),
-        Jet::variable(h.clone(), 1),
-        TorusChoice {
-            torus,
-            phase1: 0.0,
-            phase2: 0.0,
-        },
-    )?;
-    Ok(TorusMap::of_motion(&motion))
+    let constant = |x: &T| Jet::constant(x.clone());
+    let (m, h) = (Jet::variable(m.clone(), 0), Jet::variable(h.clone(), 1));
+    torus_of([constant(a), constant(b), m, h], torus)
 }
 
 #[cfg(test)]
