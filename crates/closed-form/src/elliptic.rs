@@ -21,8 +21,10 @@ pub struct EllipticModulus<T> {
     a: Vec<T>,
     b: Vec<T>,
     c: Vec<T>,
-    /// 1/a₀ … 1/a_N (the recursion of [`Self::sn_cn_dn`] multiplies by them).
-    inv_a: Vec<T>,
+    /// α_i = a_{i−1}a_i and β_i = b_{i−1}a_i for i = 1…N (the recursion of [`Self::sn_cn_dn`]
+    /// multiplies by them), at index i − 1.
+    alpha: Vec<T>,
+    beta: Vec<T>,
 }
 
 impl<T: Real> EllipticModulus<T> {
@@ -47,7 +49,6 @@ impl<T: Real> EllipticModulus<T> {
         }
         let pi = T::pi(k2.prec());
         let big_k = pi / (a.last().unwrap().clone() * k2.lit(2.0));
-        let inv_a = a.iter().map(|x| one.clone() / x).collect();
         Self {
             k2,
             kc2,
@@ -55,7 +56,8 @@ impl<T: Real> EllipticModulus<T> {
             a,
             b: bs,
             c,
-            inv_a,
+            alpha: Vec::new(),
+            beta: Vec::new(),
         }
         .evaluation_levels()
     }
@@ -75,8 +77,10 @@ impl<T: Real> EllipticModulus<T> {
             self.a.truncate(keep);
             self.b.truncate(keep);
             self.c.truncate(keep);
-            self.inv_a.truncate(keep);
         }
+        let n = self.a.len();
+        self.alpha = (1..n).map(|i| self.a[i - 1].clone() * &self.a[i]).collect();
+        self.beta = (1..n).map(|i| self.b[i - 1].clone() * &self.a[i]).collect();
         self
     }
 
@@ -89,7 +93,8 @@ impl<T: Real> EllipticModulus<T> {
             a: self.a.iter().map(f).collect(),
             b: self.b.iter().map(f).collect(),
             c: self.c.iter().map(f).collect(),
-            inv_a: self.inv_a.iter().map(f).collect(),
+            alpha: Vec::new(),
+            beta: Vec::new(),
         }
         .evaluation_levels()
     }
@@ -126,39 +131,39 @@ impl<T: Real> EllipticModulus<T> {
             let (sn, cn, dn) = self.landen(u);
             return (sn, cn, Some(dn));
         }
-        let one = u.one_like();
-        let mut a = co / &s;
-        let mut c = a.clone() * c_agm;
-        let mut dn = one.clone();
-        // In place, with two scratch numbers: no allocation in the loop for MPFR.
-        let mut den = one.clone();
+        // Bulirsch's recursion (Numerical Recipes' `sncndn`) with its c and dn carried as
+        // fractions c = p/q, dn = r/s, so that no level divides: from c = cos(a_N u)·a_N/sin(a_N u)
+        // and, at level i = N…1 (α_i = a_{i−1}a_i, β_i = b_{i−1}a_i),
+        //   c ← c·dn,  dn ← (b_{i−1} + c²/a_i)/(a_{i−1} + c²/a_i) = (β_i q² + p²)/(α_i q² + p²),
+        // then sn = sign(sin)/√(1 + c²) = q/√(p² + q²) and cn = c·sn = p/√(p² + q²). Every sum
+        // adds two positive numbers (no cancellation), so p, q, r, s keep their relative accuracy
+        // (also near the zeros of sn and cn); the last dn is skipped when not wanted.
+        let mut p = co * c_agm;
+        let mut q = s;
+        // dn = r/s (None: 1).
+        let mut dn: Option<(T, T)> = None;
         for i in (1..=n).rev() {
-            // em[i] = a_{i-1}, en[i] = b_{i-1} of the AGM of (1, k′).
+            let (p2, q2) = (p.square(), q.square());
+            if let Some((r, s)) = dn.take() {
+                p *= &r;
+                q *= &s;
+            }
             if i == 1 && !want_dn {
-                // The last level's a and dn serve only dn.
-                c *= &dn;
                 break;
             }
-            a *= &c;
-            c *= &dn;
-            // dn = (b_{i−1} + a)/(a_{i−1} + a)
-            dn.clone_from(&a);
-            dn += &self.b[i - 1];
-            den.clone_from(&a);
-            den += &self.a[i - 1];
-            dn /= &den;
-            if i > 1 {
-                // a = c/a_{i−1}
-                a.clone_from(&c);
-                a *= &self.inv_a[i - 1];
-            }
+            let r = (q2.clone() * &self.beta[i - 1]).add_same_sign(&p2);
+            let s = (q2 * &self.alpha[i - 1]).add_same_sign(&p2);
+            dn = Some((r, s));
+            rescale(&mut p, &mut q);
         }
-        let mut mag = c.square();
-        mag += &one;
-        let mag = one / mag.sqrt();
-        let sn = if s >= s.zero_like() { mag } else { -mag };
-        let cn = c * &sn;
-        (sn, cn, want_dn.then_some(dn))
+        let mag = p.square().add_same_sign(&q.square()).recip_sqrt();
+        let sn = q * &mag;
+        let cn = p * &mag;
+        (
+            sn,
+            cn,
+            want_dn.then(|| dn.map_or_else(|| u.one_like(), |(r, s)| r / s)),
+        )
     }
 
     /// The inverse of [`Self::sn_cn_dn`]: the u ∈ [0, 4K) with (sn u, cn u) = (s, c)/√(s² + c²).
@@ -211,6 +216,21 @@ impl<T: Real> EllipticModulus<T> {
         let dn = c.clone() / (phi_prev - &phi).cos();
         (s, c, dn)
     }
+}
+
+/// p and q times one power of two that brings the larger near 1 when it leaves [1e-50, 1e50]
+/// (exact; the fraction p/q is unchanged). Each level of the recursion at most cubes them, so
+/// f64 and double-double numbers never leave their range; MPFR's never need it.
+#[inline(always)]
+fn rescale<T: Real>(p: &mut T, q: &mut T) {
+    let m = p.to_f64().abs().max(q.to_f64().abs());
+    if (1e-50..=1e50).contains(&m) || !(m.is_finite() && m > 0.0) {
+        return;
+    }
+    let k = -(m.log2().round() as i32);
+    let f = p.lit(2f64.powi(k));
+    *p *= &f;
+    *q *= &f;
 }
 
 #[cfg(test)]
