@@ -222,28 +222,33 @@ impl DoubleDouble {
         Self::from_quick(s, e + (self.lo + b.lo))
     }
 
-    /// (sin t, cos t) for |t| ≤ π/32, rotated by kπ/16 (|k| ≤ 4): sin t by its Taylor
-    /// polynomial to t¹⁹ (Horner in t², coefficients 1/n! to 106 bits, the terms from t¹¹ on
-    /// in f64), cos t = √(1 − sin²t), then the angle-sum formulas with sin, cos of kπ/16 from a
-    /// table (QD's method). No sum here cancels (each one's smaller addend is below half the
-    /// larger: |sin(π/16)cos(π/32)| > 2·|cos(π/16)sin(π/32)|), so they are [`Self::add_no_cancel`].
+    /// (sin t, cos t) for |t| ≤ π/32, rotated by kπ/16 (|k| ≤ 4): sin t and cos t by their
+    /// Taylor polynomials to t¹⁹ and t¹⁸ (Horner in t², coefficients 1/n! to 106 bits, the terms
+    /// from t¹¹ and t¹⁰ on in f64; two independent chains, no square root), then the angle-sum
+    /// formulas with sin, cos of kπ/16 from a table (QD's method). No sum here cancels (each
+    /// one's smaller addend is below half the larger: |sin(π/16)cos(π/32)| > 2·|cos(π/16)sin(π/32)|),
+    /// so they are [`Self::add_no_cancel`].
     #[inline(always)]
     fn sin_cos_reduced(t: Self, k: f64) -> (Self, Self) {
         let tables = sin_cos_tables();
         let t2 = t.sqr();
-        let c = &tables.inverse_factorials;
+        let (s, c) = (&tables.inverse_factorials, &tables.inverse_even_factorials);
         // The terms from t¹¹ on are below 1.3e-15 of the first (t⁸·3!/11! for |t| ≤ π/32):
-        // their sum in plain f64 errs by ~1e-31 of the series (t³/6), ~1e-33 of sin t.
-        let mut tail = c[8].hi;
-        for ck in c[4..8].iter().rev() {
-            tail = tail * t2.hi + ck.hi;
+        // their sum in plain f64 errs by ~1e-31 of the series (t³/6), ~1e-33 of sin t; those of
+        // cos from t¹⁰ on, below 5e-15 of t²/2: ~1e-33 of cos t.
+        let (mut tail_s, mut tail_c) = (s[8].hi, c[8].hi);
+        for (sk, ck) in s[4..8].iter().zip(&c[4..8]).rev() {
+            tail_s = tail_s * t2.hi + sk.hi;
+            tail_c = tail_c * t2.hi + ck.hi;
         }
-        let mut p = t2.mul_f64(tail).add_no_cancel(c[3]);
-        for ck in c[..3].iter().rev() {
-            p = (p * t2).add_no_cancel(*ck);
+        let mut ps = t2.mul_f64(tail_s).add_no_cancel(s[3]);
+        let mut pc = t2.mul_f64(tail_c).add_no_cancel(c[3]);
+        for (sk, ck) in s[..3].iter().zip(&c[..3]).rev() {
+            ps = (ps * t2).add_no_cancel(*sk);
+            pc = (pc * t2).add_no_cancel(*ck);
         }
-        let sin_t = t.add_no_cancel(t * t2 * p);
-        let cos_t = Self::ONE.add_no_cancel(-sin_t.sqr()).sqrt();
+        let sin_t = t.add_no_cancel(t * t2 * ps);
+        let cos_t = Self::ONE.add_no_cancel(t2 * pc);
         let j = k.abs() as usize;
         if j == 0 {
             return (sin_t, cos_t);
@@ -287,6 +292,8 @@ impl DoubleDouble {
 struct SinCosTables {
     /// (−1)ⁿ/(2n + 1)! for n = 1…9 (the odd Taylor coefficients of sin from t³ to t¹⁹).
     inverse_factorials: [DoubleDouble; 9],
+    /// (−1)ⁿ/(2n)! for n = 1…9 (the even Taylor coefficients of cos from t² to t¹⁸).
+    inverse_even_factorials: [DoubleDouble; 9],
     /// (sin kπ/16, cos kπ/16) for k = 1…4.
     sin_cos_k16: [(DoubleDouble, DoubleDouble); 4],
 }
@@ -295,15 +302,20 @@ fn sin_cos_tables() -> &'static SinCosTables {
     static TABLES: std::sync::OnceLock<SinCosTables> = std::sync::OnceLock::new();
     TABLES.get_or_init(|| {
         let bits = MPFR_BITS;
-        let inverse_factorials = std::array::from_fn(|i| {
-            let n = 2 * i as u32 + 3;
+        let inverse_factorial = |n: u32| {
             let mut f = Float::with_val(bits, 1);
             for j in 2..=n {
                 f *= j;
             }
-            let x = Float::with_val(bits, 1) / f;
-            let x = if i % 2 == 0 { -x } else { x };
-            DoubleDouble::from_float(&x)
+            Float::with_val(bits, 1) / f
+        };
+        let inverse_even_factorials = std::array::from_fn(|i| {
+            let x = inverse_factorial(2 * i as u32 + 2);
+            DoubleDouble::from_float(&if i % 2 == 0 { -x } else { x })
+        });
+        let inverse_factorials = std::array::from_fn(|i| {
+            let x = inverse_factorial(2 * i as u32 + 3);
+            DoubleDouble::from_float(&if i % 2 == 0 { -x } else { x })
         });
         let pi = Float::with_val(bits, rug::float::Constant::Pi);
         let sin_cos_k16 = std::array::from_fn(|i| {
@@ -313,6 +325,7 @@ fn sin_cos_tables() -> &'static SinCosTables {
         });
         SinCosTables {
             inverse_factorials,
+            inverse_even_factorials,
             sin_cos_k16,
         }
     })
