@@ -11,11 +11,14 @@
 mod band_diagram;
 pub mod diagrams;
 mod flow;
+mod request;
 
 pub use flow::{
-    bench, bench_ensemble, bench_with_dense, default_mp_digits, label_of, BenchIntegrator,
-    BenchMethod, BenchObserver, BenchReport, BenchRequest, EnsemblePlan, OutsideMethod, Quiet,
-    RowLabel, MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
+    bench, bench_ensemble, bench_with_dense, default_mp_digits, label_of, BenchReport, RowLabel,
+    MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
+};
+pub use request::{
+    BenchIntegrator, BenchMethod, BenchObserver, BenchRequest, EnsemblePlan, OutsideMethod, Quiet,
 };
 
 use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Tolerances};
