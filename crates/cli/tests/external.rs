@@ -410,19 +410,24 @@ max_state_error = 1e-6
     }
 }
 
+/// The example adapter with `"steps"` cut from its answer's stats, as a script `name`.
+fn without_steps(name: &str) -> String {
+    script(
+        name,
+        &format!(
+            "'{}' | sed -E 's/\"steps\":[0-9]+,?//; s/,}}/}}/'",
+            adapter_rk4().display()
+        ),
+    )
+}
+
 /// An adapter whose answer states no `stats.steps` (here the example adapter with the key cut
 /// from its answer) is reported with its steps not known — null in JSON, an empty CSV cell,
 /// n/a in the table — not as 0 steps; the evaluations it does state are kept.
 #[test]
 fn steps_an_adapter_does_not_state_are_not_known() {
     let adapter = adapter_rk4();
-    let quiet = script(
-        "no-steps.sh",
-        &format!(
-            "'{}' | sed -E 's/\"steps\":[0-9]+,?//; s/,}}/}}/'",
-            adapter.display()
-        ),
-    );
+    let quiet = without_steps("no-steps.sh");
     let mut args = vec!["compare", "--exec", &quiet];
     args.extend_from_slice(&CASE);
     let doc = json(&args);
@@ -457,13 +462,7 @@ fn steps_an_adapter_does_not_state_are_not_known() {
 #[test]
 fn bench_rows_of_an_adapter_stating_no_steps_say_not_known() {
     let adapter = adapter_rk4();
-    let quiet = script(
-        "bench-no-steps.sh",
-        &format!(
-            "'{}' | sed -E 's/\"steps\":[0-9]+,?//; s/,}}/}}/'",
-            adapter.display()
-        ),
-    );
+    let quiet = without_steps("bench-no-steps.sh");
     let svg = tmp("bench-no-steps.svg");
     let svg = svg.to_str().unwrap();
     let run = [
