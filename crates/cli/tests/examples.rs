@@ -586,7 +586,9 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
             continue;
         }
         ran += 1;
-        script.push_str(&format!("printf '\\n@@start {k}\\n'\n"));
+        script.push_str(&format!(
+            "printf '\\n@@start {k}\\n'\n__t0=$EPOCHREALTIME\n"
+        ));
         match &ex.takes {
             Some(_) if !full => script.push_str(&format!(
                 "timeout -k 5 {PROBE_SECONDS} bash -c {}\n__s=$?\n\
@@ -601,7 +603,8 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
             .map(|c| format!("[ $__s -ne {c} ]"))
             .collect();
         script.push_str(&format!(
-            "if {}; then printf '\\n@@failed {k} %s\\n' $__s; exit 97; fi\n",
+            "if {}; then printf '\\n@@failed {k} %s\\n' $__s; exit 97; fi\n\
+             printf '\\n@@took {k} %s %s\\n' $__t0 $EPOCHREALTIME\n",
             accepted.join(" && ")
         ));
     }
@@ -641,10 +644,19 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
         lines[lines.len().saturating_sub(40)..].join("\n")
     };
     let mut last_started = None;
+    // (seconds, line) of each command that finished.
+    let mut took: Vec<(f64, usize)> = Vec::new();
     for line in text.lines() {
         let words: Vec<&str> = line.split_whitespace().collect();
         match words.as_slice() {
             ["@@start", k] => last_started = k.parse::<usize>().ok(),
+            ["@@took", k, t0, t1] => {
+                if let (Ok(k), Ok(t0), Ok(t1)) =
+                    (k.parse::<usize>(), t0.parse::<f64>(), t1.parse::<f64>())
+                {
+                    took.push((t1 - t0, doc.examples[k].line));
+                }
+            }
             ["@@stopped", k] => {
                 let ex = &doc.examples[k.parse::<usize>().unwrap()];
                 eprintln!(
@@ -686,11 +698,23 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
             tail(&text)
         ));
     }
+    // Where the time went: the commands of a second or more, longest first.
+    took.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let slow: Vec<String> = took
+        .iter()
+        .filter(|(t, _)| *t >= 1.0)
+        .map(|(t, line)| format!(":{line} {t:.1} s"))
+        .collect();
     eprintln!(
-        "examples: {}: {ran} run, {} skipped, {:.1} s",
+        "examples: {}: {ran} run, {} skipped, {:.1} s{}",
         doc.source,
         skipped.len(),
-        start.elapsed().as_secs_f64()
+        start.elapsed().as_secs_f64(),
+        if slow.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", slow.join(", "))
+        }
     );
     Outcome {
         failures,
