@@ -44,6 +44,14 @@ impl Cell {
     }
 }
 
+/// What a table shows for a figure that is not known (JSON: null, CSV: an empty cell).
+pub const NA: &str = "n/a";
+
+/// A count, or "n/a" when not known.
+pub fn or_na(x: Option<u64>) -> String {
+    x.map_or_else(|| NA.to_string(), |x| x.to_string())
+}
+
 /// `x` with about 10 significant digits, in fixed notation when 1e-3 <= |x| < 1e6.
 pub fn readable_number(x: f64) -> String {
     let m = x.abs();

@@ -8,8 +8,10 @@
 //! checkout, so `scripts/run.sh`, `target/release/rsts` and `cargo build --release -p rsts-cli`
 //! find the binary already built. Each document (a markdown file, a help text) starts from that
 //! fresh state and runs its commands in order, sharing what they write (two documents at a time,
-//! each in its own copy; `RSTS_EXAMPLES_JOBS=1` runs one at a time); a command that exits
-//! non-zero, or that changes a tracked file, fails the test with the file, line and command.
+//! each in its own copy, the longest first; one that compiles — `pip install`, `cargo bench` —
+//! beside one that does not, see [`Kind`]; `RSTS_EXAMPLES_JOBS=1` runs one at a time); a command
+//! that exits non-zero, or that changes a tracked file, fails the test with the file, line and
+//! command. Each document's line on stderr names its commands of a second or more.
 //!
 //! Markers, as comment lines inside a block:
 //! - `# needs: heyoka` (or scipy, python, node, chromium, slurm; several separated by commas): the
@@ -20,8 +22,8 @@
 //!   whose documented outcome may be a failure, e.g. a baseline comparison that a loaded machine
 //!   can turn into a timing regression.
 //! - `# takes: 5 min`: the next command is long. It is started and stopped after
-//!   PROBE_SECONDS if still running (it must not fail before); `RSTS_EXAMPLES_FULL=1` runs it to
-//!   the end.
+//!   PROBE_SECONDS (CARGO_PROBE_SECONDS for a cargo command) if still running (it must not fail
+//!   before); `RSTS_EXAMPLES_FULL=1` runs it to the end.
 //!
 //! Bare `scripts/test.sh` (this suite itself) is not run again from here.
 
@@ -41,6 +43,9 @@ const VENVS: [&str; 2] = [".venv-adapters", ".venv-heyoka"];
 /// checks, set-up and the first results (a wrong option or a missing file fails in well under a
 /// second).
 const PROBE_SECONDS: u64 = 8;
+/// The same for a `# takes:` cargo command (`cargo bench`, `cargo test`): cargo rejects a wrong
+/// package, target or option in under a second (0.2–0.4 s here), then spends the rest compiling.
+const CARGO_PROBE_SECONDS: u64 = 3;
 /// Documents run side by side, each in its own copy of the checkout: at most this many at once
 /// (fewer on a machine with fewer cores); `RSTS_EXAMPLES_JOBS=1` runs them one after another.
 const MAX_JOBS: usize = 2;
@@ -545,15 +550,30 @@ fn fresh_build(command: &str) -> bool {
             .all(|c| c.len() == 2 && c[0] == "-p" && FRESH_PACKAGES.contains(&c[1]))
 }
 
-/// Whether a command builds in the shared target/ (and so re-links its binaries); a build that
-/// is fresh ([`fresh_build`]) does not.
-fn builds(command: &str) -> bool {
-    if fresh_build(command) {
-        return false;
+/// How a document's commands use the shared target/, which decides what may run beside it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Kind {
+    /// Runs what the test build made (a fresh `cargo build -p` of [`FRESH_PACKAGES`] and
+    /// `scripts/run.sh` included): beside anything but a [`Kind::Relinks`] document.
+    Runs,
+    /// Compiles in target/ without touching the binaries the others run — `cargo test`, `bench`
+    /// or `run` of a package other than [`FRESH_PACKAGES`], `pip install` of the Python package:
+    /// one such document at a time (their cargo runs would wait for each other on target/'s
+    /// lock), beside [`Kind::Runs`] documents.
+    Builds,
+    /// May re-link `rsts` or `example-adapter-rk4` in target/release, which vanish for an
+    /// instant (a cargo build of the workspace, of rsts-cli with other features or in another
+    /// profile…): runs alone.
+    Relinks,
+}
+
+/// What one command does to the shared target/ (see [`Kind`]).
+fn kind(command: &str) -> Kind {
+    if fresh_build(command) || command.contains("scripts/run.sh") {
+        // run.sh: `cargo build --release -p rsts-cli --bin rsts`, a fresh build.
+        return Kind::Runs;
     }
-    [
-        "cargo ",
-        "scripts/run.sh",
+    if [
         "scripts/setup.sh",
         "pip install",
         "maturin",
@@ -561,6 +581,59 @@ fn builds(command: &str) -> bool {
     ]
     .iter()
     .any(|b| command.contains(b))
+    {
+        return Kind::Builds;
+    }
+    let words: Vec<&str> = command.split_whitespace().collect();
+    let Some(at) = words.iter().position(|w| *w == "cargo") else {
+        return Kind::Runs;
+    };
+    let args = &words[at + 1..];
+    // Only what builds: `cargo tree`, `fmt`, `metadata`… do not.
+    let compiles = [
+        "build", "run", "test", "bench", "rustc", "install", "b", "r", "t",
+    ];
+    if !args.first().is_some_and(|sub| compiles.contains(sub)) {
+        return Kind::Runs;
+    }
+    // Up to `--`: what follows goes to the program.
+    let args: Vec<&str> = args.iter().take_while(|a| **a != "--").copied().collect();
+    let mut packages = Vec::new();
+    for (i, a) in args.iter().enumerate() {
+        if *a == "-p" || *a == "--package" {
+            packages.extend(args.get(i + 1).copied());
+        } else if let Some(p) = a.strip_prefix("--package=").or(a.strip_prefix("-p")) {
+            if !p.is_empty() {
+                packages.push(p);
+            }
+        } else if ["--workspace", "--all", "--manifest-path"].contains(a) {
+            return Kind::Relinks;
+        }
+    }
+    if packages.is_empty() || packages.iter().any(|p| FRESH_PACKAGES.contains(p)) {
+        Kind::Relinks
+    } else {
+        Kind::Builds
+    }
+}
+
+/// The kind of a document: that of its most demanding command.
+fn document_kind(doc: &Document) -> Kind {
+    doc.examples
+        .iter()
+        .map(|e| kind(&e.command))
+        .max()
+        .unwrap_or(Kind::Runs)
+}
+
+/// How long a `# takes:` command runs before it is stopped: a cargo command checks its
+/// arguments (package, target and test names) in well under a second, then only compiles.
+fn probe_seconds(command: &str) -> u64 {
+    if command.split_whitespace().any(|w| w == "cargo") {
+        CARGO_PROBE_SECONDS
+    } else {
+        PROBE_SECONDS
+    }
 }
 
 fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
@@ -586,11 +659,14 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
             continue;
         }
         ran += 1;
-        script.push_str(&format!("printf '\\n@@start {k}\\n'\n"));
+        script.push_str(&format!(
+            "printf '\\n@@start {k}\\n'\n__t0=$EPOCHREALTIME\n"
+        ));
         match &ex.takes {
             Some(_) if !full => script.push_str(&format!(
-                "timeout -k 5 {PROBE_SECONDS} bash -c {}\n__s=$?\n\
+                "timeout -k 5 {} bash -c {}\n__s=$?\n\
                  if [ $__s -eq 124 ] || [ $__s -eq 137 ]; then printf '\\n@@stopped {k}\\n'; __s=0; fi\n",
+                probe_seconds(&ex.command),
                 quote(&ex.command)
             )),
             _ => script.push_str(&format!("{}\n__s=$?\n", ex.command)),
@@ -601,7 +677,8 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
             .map(|c| format!("[ $__s -ne {c} ]"))
             .collect();
         script.push_str(&format!(
-            "if {}; then printf '\\n@@failed {k} %s\\n' $__s; exit 97; fi\n",
+            "if {}; then printf '\\n@@failed {k} %s\\n' $__s; exit 97; fi\n\
+             printf '\\n@@took {k} %s %s\\n' $__t0 $EPOCHREALTIME\n",
             accepted.join(" && ")
         ));
     }
@@ -641,17 +718,27 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
         lines[lines.len().saturating_sub(40)..].join("\n")
     };
     let mut last_started = None;
+    // (seconds, line) of each command that finished.
+    let mut took: Vec<(f64, usize)> = Vec::new();
     for line in text.lines() {
         let words: Vec<&str> = line.split_whitespace().collect();
         match words.as_slice() {
             ["@@start", k] => last_started = k.parse::<usize>().ok(),
+            ["@@took", k, t0, t1] => {
+                if let (Ok(k), Ok(t0), Ok(t1)) =
+                    (k.parse::<usize>(), t0.parse::<f64>(), t1.parse::<f64>())
+                {
+                    took.push((t1 - t0, doc.examples[k].line));
+                }
+            }
             ["@@stopped", k] => {
                 let ex = &doc.examples[k.parse::<usize>().unwrap()];
                 eprintln!(
-                    "examples: {}:{}: stopped after {PROBE_SECONDS} s as marked \
+                    "examples: {}:{}: stopped after {} s as marked \
                      (`# takes: {}`; RSTS_EXAMPLES_FULL=1 runs it to the end)",
                     doc.source,
                     ex.line,
+                    probe_seconds(&ex.command),
                     ex.takes.as_deref().unwrap_or("")
                 );
             }
@@ -686,16 +773,66 @@ fn run_document(doc: &Document, sandbox: &Sandbox, full: bool) -> Outcome {
             tail(&text)
         ));
     }
+    // Where the time went: the commands of a second or more, longest first.
+    took.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let slow: Vec<String> = took
+        .iter()
+        .filter(|(t, _)| *t >= 1.0)
+        .map(|(t, line)| format!(":{line} {t:.1} s"))
+        .collect();
     eprintln!(
-        "examples: {}: {ran} run, {} skipped, {:.1} s",
+        "examples: {}: {ran} run, {} skipped, {:.1} s{}",
         doc.source,
         skipped.len(),
-        start.elapsed().as_secs_f64()
+        start.elapsed().as_secs_f64(),
+        if slow.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", slow.join(", "))
+        }
     );
     Outcome {
         failures,
         skipped,
         ran,
+    }
+}
+
+/// The documents still to run (by cost, the longest last) and the kinds of those running.
+struct Schedule<'a> {
+    queue: Vec<(u64, usize, &'a Document, Kind)>,
+    running: Vec<Kind>,
+}
+
+impl<'a> Schedule<'a> {
+    /// Whether a document of this kind may start beside those running (see [`Kind`]).
+    fn may_start(&self, kind: Kind) -> bool {
+        match kind {
+            _ if self.running.contains(&Kind::Relinks) => false,
+            Kind::Relinks => self.running.is_empty(),
+            Kind::Builds => !self.running.contains(&Kind::Builds),
+            Kind::Runs => true,
+        }
+    }
+
+    /// The longest document that may start now (waiting until one may); `None` when none is
+    /// left.
+    fn next(
+        schedule: &std::sync::Mutex<Self>,
+        finished: &std::sync::Condvar,
+    ) -> Option<(usize, &'a Document, Kind)> {
+        let mut s = schedule.lock().unwrap();
+        loop {
+            if s.queue.is_empty() {
+                return None;
+            }
+            if let Some(at) = s.queue.iter().rposition(|(.., kind)| s.may_start(*kind)) {
+                let (_, order, doc, kind) = s.queue.remove(at);
+                s.running.push(kind);
+                return Some((order, doc, kind));
+            }
+            s = finished.wait(s).unwrap();
+        }
     }
 }
 
@@ -717,50 +854,51 @@ fn every_documented_example_runs_as_written() {
     let (docs, mut failures) = documents();
     let total: usize = docs.iter().map(|d| d.examples.len()).sum();
     assert!(total > 20, "only {total} examples found");
-    // The longest documents first (a `# takes:` probe costs PROBE_SECONDS, a command about a
-    // second), so that the workers finish together.
-    let mut queue: Vec<(usize, &Document)> = docs
-        .iter()
-        .enumerate()
-        .filter(|(_, d)| !d.examples.is_empty())
-        .collect();
+    // The longest documents first, so that the workers finish together: a command costs about
+    // a second, a `# takes:` probe its probe_seconds, a build (`pip install`, `cargo run` of
+    // another package's example) about a minute.
     let cost = |d: &Document| {
         d.examples
             .iter()
-            .map(|e| if e.takes.is_some() { PROBE_SECONDS } else { 1 })
+            .map(|e| match (&e.takes, kind(&e.command)) {
+                (Some(_), _) => probe_seconds(&e.command),
+                (None, Kind::Builds | Kind::Relinks) => 60,
+                (None, Kind::Runs) => 1,
+            })
             .sum::<u64>()
     };
-    queue.sort_by_key(|(_, d)| cost(d));
+    let mut queue: Vec<(u64, usize, &Document, Kind)> = docs
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| !d.examples.is_empty())
+        .map(|(order, d)| (cost(d), order, d, document_kind(d)))
+        .collect();
+    queue.sort_by_key(|(cost, order, ..)| (*cost, std::cmp::Reverse(*order)));
     let jobs = std::env::var("RSTS_EXAMPLES_JOBS")
         .ok()
         .and_then(|v| v.parse::<usize>().ok())
         .unwrap_or(MAX_JOBS)
         .clamp(1, MAX_JOBS)
         .min(std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let queue = std::sync::Mutex::new(queue);
+    let schedule = std::sync::Mutex::new(Schedule {
+        queue,
+        running: Vec::new(),
+    });
+    let finished = std::sync::Condvar::new();
     let results = std::sync::Mutex::new(Vec::new());
-    // A document that builds (cargo, run.sh, pip install of the package) may re-link binaries in
-    // the shared target/ — `rsts`, `example-adapter-rk4` — which vanish for an instant: it runs
-    // alone, the others (a fresh `cargo build -p` of them included) share the gate.
-    let gate = std::sync::RwLock::new(());
     std::thread::scope(|scope| {
         for index in 0..jobs {
-            let (queue, results, gate) = (&queue, &results, &gate);
+            let (schedule, finished, results) = (&schedule, &finished, &results);
             scope.spawn(move || {
                 let sandbox = Sandbox::new(index);
-                loop {
-                    let Some((order, doc)) = queue.lock().unwrap().pop() else {
-                        break;
-                    };
-                    let builds = doc.examples.iter().any(|e| builds(&e.command));
-                    let (_shared, _alone) = if builds {
-                        (None, Some(gate.write().unwrap()))
-                    } else {
-                        (Some(gate.read().unwrap()), None)
-                    };
+                while let Some((order, doc, kind)) = Schedule::next(schedule, finished) {
                     let outcome = run_document(doc, &sandbox, full);
                     let changed = sandbox.reset();
                     results.lock().unwrap().push((order, doc, outcome, changed));
+                    let mut s = schedule.lock().unwrap();
+                    let at = s.running.iter().position(|k| *k == kind).unwrap();
+                    s.running.remove(at);
+                    finished.notify_all();
                 }
             });
         }
@@ -804,23 +942,67 @@ fn every_documented_example_runs_as_written() {
 
 #[test]
 fn only_builds_that_may_re_link_run_alone() {
-    for fresh in [
-        "cargo build --release -p example-adapter-rk4",
-        "cargo build --release -p rsts-cli -p example-adapter-rk4",
+    for (command, expected) in [
+        ("rsts compare --t-end 20", Kind::Runs),
+        ("cargo build --release -p example-adapter-rk4", Kind::Runs),
+        (
+            "cargo build --release -p rsts-cli -p example-adapter-rk4",
+            Kind::Runs,
+        ),
+        ("scripts/run.sh compare", Kind::Runs),
+        ("cargo tree -p rsts-cli", Kind::Runs),
+        (".venv/bin/pip install ./crates/python", Kind::Builds),
+        (
+            "cargo run --release -p rsts-harness --example own_integrator",
+            Kind::Builds,
+        ),
+        (
+            "cargo bench -p rsts-closed-form --bench explicit -- 'state/'",
+            Kind::Builds,
+        ),
+        (
+            "X=1 cargo test --release -p rsts-harness --test t -- -p rsts-cli",
+            Kind::Builds,
+        ),
+        ("cargo build --release", Kind::Relinks),
+        ("cargo build -p rsts-cli", Kind::Relinks),
+        (
+            "cargo build --release -p rsts-cli --features x",
+            Kind::Relinks,
+        ),
+        (
+            "cargo test --release -p rsts-cli --test jobs",
+            Kind::Relinks,
+        ),
+        (
+            "cargo test --release --workspace --test taylor",
+            Kind::Relinks,
+        ),
+        (
+            "cargo build --release --package=example-adapter-rk4 --bin x",
+            Kind::Relinks,
+        ),
     ] {
-        assert!(!builds(fresh), "{fresh}");
+        assert_eq!(kind(command), expected, "{command}");
     }
-    for alone in [
-        "cargo build --release",
-        "cargo build -p rsts-cli",
-        "cargo build --release -p rsts-harness",
-        "cargo build --release -p rsts-cli --features x",
-        "cargo run --release -p rsts-harness --example own_integrator",
-        "scripts/run.sh compare",
-        ".venv/bin/pip install ./crates/python",
-    ] {
-        assert!(builds(alone), "{alone}");
-    }
+    // Who may start beside whom.
+    let doc = Document {
+        source: String::new(),
+        examples: Vec::new(),
+    };
+    let beside = |running: &[Kind], kind: Kind| {
+        Schedule {
+            queue: vec![(1, 0, &doc, kind)],
+            running: running.to_vec(),
+        }
+        .may_start(kind)
+    };
+    assert!(beside(&[Kind::Builds], Kind::Runs));
+    assert!(beside(&[Kind::Runs, Kind::Runs], Kind::Builds));
+    assert!(!beside(&[Kind::Builds], Kind::Builds));
+    assert!(!beside(&[Kind::Runs], Kind::Relinks));
+    assert!(!beside(&[Kind::Relinks], Kind::Runs));
+    assert!(beside(&[], Kind::Relinks));
 }
 
 #[test]

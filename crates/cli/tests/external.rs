@@ -410,19 +410,24 @@ max_state_error = 1e-6
     }
 }
 
+/// The example adapter with `"steps"` cut from its answer's stats, as a script `name`.
+fn without_steps(name: &str) -> String {
+    script(
+        name,
+        &format!(
+            "'{}' | sed -E 's/\"steps\":[0-9]+,?//; s/,}}/}}/'",
+            adapter_rk4().display()
+        ),
+    )
+}
+
 /// An adapter whose answer states no `stats.steps` (here the example adapter with the key cut
 /// from its answer) is reported with its steps not known — null in JSON, an empty CSV cell,
 /// n/a in the table — not as 0 steps; the evaluations it does state are kept.
 #[test]
 fn steps_an_adapter_does_not_state_are_not_known() {
     let adapter = adapter_rk4();
-    let quiet = script(
-        "no-steps.sh",
-        &format!(
-            "'{}' | sed -E 's/\"steps\":[0-9]+,?//; s/,}}/}}/'",
-            adapter.display()
-        ),
-    );
+    let quiet = without_steps("no-steps.sh");
     let mut args = vec!["compare", "--exec", &quiet];
     args.extend_from_slice(&CASE);
     let doc = json(&args);
@@ -449,4 +454,66 @@ fn steps_an_adapter_does_not_state_are_not_known() {
         .find(|l| l.starts_with("steps (rejected)"))
         .expect("a steps line");
     assert!(line.contains("n/a (n/a)"), "{line}");
+}
+
+/// `rsts bench` does the same: a row of an adapter that states no steps has them null in JSON,
+/// an empty CSV cell, n/a in the table; the evaluations it states are kept; a diagram against
+/// steps leaves the row out and says so on stderr (main before this change printed 0 steps).
+#[test]
+fn bench_rows_of_an_adapter_stating_no_steps_say_not_known() {
+    let adapter = adapter_rk4();
+    let quiet = without_steps("bench-no-steps.sh");
+    let svg = tmp("bench-no-steps.svg");
+    let svg = svg.to_str().unwrap();
+    let run = [
+        "--tolerances",
+        "1e-6",
+        "--t-end",
+        "5",
+        "--samples",
+        "11",
+        "--repeats",
+        "1",
+    ];
+    let args = [&["bench", "--exec", &quiet][..], &run].concat();
+    let doc = json(&args);
+    let row = &doc["rows"][0];
+    assert!(row["steps"].is_null(), "{row}");
+    let full = json(&[&["bench", "--exec", adapter.to_str().unwrap()][..], &run].concat());
+    let steps = full["rows"][0]["steps"]
+        .as_u64()
+        .expect("the full answer's steps");
+    assert_eq!(steps, 500, "step 0.01 over T = 5");
+    assert_eq!(row["rhs_evals"], 4 * steps, "stated evaluations are kept");
+    let text = String::from_utf8(rsts(&[&args[..], &["--format", "csv"]].concat()).stdout).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let cells: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    assert_eq!(cells[col("steps")], "", "{text}");
+    assert_eq!(cells[col("rhs_evals")], (4 * steps).to_string(), "{text}");
+    let with_rk4 = ["--methods", "rk4", "--svg", svg, "--cost", "steps"];
+    let out = rsts(&[&args[..], &with_rk4].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let drawn = std::fs::read_to_string(svg).unwrap();
+    assert!(
+        drawn.contains("rk4") && !drawn.contains("example-rk4"),
+        "{drawn}"
+    );
+    let table = String::from_utf8(out.stdout.clone()).unwrap();
+    let line = table
+        .lines()
+        .find(|l| l.trim_start().starts_with("example-rk4"))
+        .expect("a row");
+    let last: Vec<&str> = line.split_whitespace().rev().take(2).collect();
+    assert_eq!(
+        last,
+        [(4 * steps).to_string().as_str(), "n/a"],
+        "steps n/a, evaluations stated: {line}"
+    );
+    let err = stderr(&out);
+    assert!(
+        err.contains("example-rk4 left out of the diagram: its steps are not known"),
+        "{err}"
+    );
 }

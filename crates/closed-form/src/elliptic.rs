@@ -21,8 +21,10 @@ pub struct EllipticModulus<T> {
     a: Vec<T>,
     b: Vec<T>,
     c: Vec<T>,
-    /// 1/a₀ … 1/a_N (the recursion of [`Self::sn_cn_dn`] multiplies by them).
-    inv_a: Vec<T>,
+    /// α_i = a_{i−1}a_i and β_i = b_{i−1}a_i for i = 1…N (the recursion of [`Self::sn_cn_dn`]
+    /// multiplies by them), at index i − 1.
+    alpha: Vec<T>,
+    beta: Vec<T>,
 }
 
 impl<T: Real> EllipticModulus<T> {
@@ -47,7 +49,6 @@ impl<T: Real> EllipticModulus<T> {
         }
         let pi = T::pi(k2.prec());
         let big_k = pi / (a.last().unwrap().clone() * k2.lit(2.0));
-        let inv_a = a.iter().map(|x| one.clone() / x).collect();
         Self {
             k2,
             kc2,
@@ -55,7 +56,8 @@ impl<T: Real> EllipticModulus<T> {
             a,
             b: bs,
             c,
-            inv_a,
+            alpha: Vec::new(),
+            beta: Vec::new(),
         }
         .evaluation_levels()
     }
@@ -75,8 +77,10 @@ impl<T: Real> EllipticModulus<T> {
             self.a.truncate(keep);
             self.b.truncate(keep);
             self.c.truncate(keep);
-            self.inv_a.truncate(keep);
         }
+        let n = self.a.len();
+        self.alpha = (1..n).map(|i| self.a[i - 1].clone() * &self.a[i]).collect();
+        self.beta = (1..n).map(|i| self.b[i - 1].clone() * &self.a[i]).collect();
         self
     }
 
@@ -89,7 +93,8 @@ impl<T: Real> EllipticModulus<T> {
             a: self.a.iter().map(f).collect(),
             b: self.b.iter().map(f).collect(),
             c: self.c.iter().map(f).collect(),
-            inv_a: self.inv_a.iter().map(f).collect(),
+            alpha: Vec::new(),
+            beta: Vec::new(),
         }
         .evaluation_levels()
     }
@@ -126,39 +131,56 @@ impl<T: Real> EllipticModulus<T> {
             let (sn, cn, dn) = self.landen(u);
             return (sn, cn, Some(dn));
         }
-        let one = u.one_like();
-        let mut a = co / &s;
-        let mut c = a.clone() * c_agm;
-        let mut dn = one.clone();
-        // In place, with two scratch numbers: no allocation in the loop for MPFR.
-        let mut den = one.clone();
+        let mut x = Recursion::new(co * c_agm, s);
         for i in (1..=n).rev() {
-            // em[i] = a_{i-1}, en[i] = b_{i-1} of the AGM of (1, k′).
-            if i == 1 && !want_dn {
-                // The last level's a and dn serve only dn.
-                c *= &dn;
-                break;
+            self.level(&mut x, i, want_dn);
+        }
+        x.finish(want_dn)
+    }
+
+    /// (sn, cn) of two moduli at once (the two separated variables of a motion): the same
+    /// numbers as [`Self::sn_cn`] of each, with the two recursions' levels side by side so
+    /// that the processor overlaps their chains of dependent operations.
+    #[inline(always)]
+    pub fn sn_cn_pair(first: &Self, u1: &T, second: &Self, u2: &T) -> ((T, T), (T, T)) {
+        let (n1, n2) = (first.a.len() - 1, second.a.len() - 1);
+        if n1 == 0 || n2 == 0 {
+            return (first.sn_cn(u1), second.sn_cn(u2));
+        }
+        let (s1, c1) = (u1.clone() * &first.a[n1]).sin_cos();
+        let (s2, c2) = (u2.clone() * &second.a[n2]).sin_cos();
+        if s1.to_f64().abs() < 1e-30 || s2.to_f64().abs() < 1e-30 {
+            return (first.sn_cn(u1), second.sn_cn(u2));
+        }
+        let mut x = Recursion::new(c1 * &first.a[n1], s1);
+        let mut y = Recursion::new(c2 * &second.a[n2], s2);
+        for j in 0..n1.max(n2) {
+            if j < n1 {
+                first.level(&mut x, n1 - j, false);
             }
-            a *= &c;
-            c *= &dn;
-            // dn = (b_{i−1} + a)/(a_{i−1} + a)
-            dn.clone_from(&a);
-            dn += &self.b[i - 1];
-            den.clone_from(&a);
-            den += &self.a[i - 1];
-            dn /= &den;
-            if i > 1 {
-                // a = c/a_{i−1}
-                a.clone_from(&c);
-                a *= &self.inv_a[i - 1];
+            if j < n2 {
+                second.level(&mut y, n2 - j, false);
             }
         }
-        let mut mag = c.square();
-        mag += &one;
-        let mag = one / mag.sqrt();
-        let sn = if s >= s.zero_like() { mag } else { -mag };
-        let cn = c * &sn;
-        (sn, cn, want_dn.then_some(dn))
+        let ((sn1, cn1, _), (sn2, cn2, _)) = (x.finish(false), y.finish(false));
+        ((sn1, cn1), (sn2, cn2))
+    }
+
+    /// Level i of Bulirsch's recursion (see [`Recursion`]); at i = 1 without dn only c ← c·dn.
+    #[inline(always)]
+    fn level(&self, x: &mut Recursion<T>, i: usize, want_dn: bool) {
+        let (p2, q2) = (x.p.square(), x.q.square());
+        if let Some((r, s)) = x.dn.take() {
+            x.p *= &r;
+            x.q *= &s;
+        }
+        if i == 1 && !want_dn {
+            return;
+        }
+        let r = (q2.clone() * &self.beta[i - 1]).add_same_sign(&p2);
+        let s = (q2 * &self.alpha[i - 1]).add_same_sign(&p2);
+        x.dn = Some((r, s));
+        rescale(&mut x.p, &mut x.q);
     }
 
     /// The inverse of [`Self::sn_cn_dn`]: the u ∈ [0, 4K) with (sn u, cn u) = (s, c)/√(s² + c²).
@@ -211,6 +233,50 @@ impl<T: Real> EllipticModulus<T> {
         let dn = c.clone() / (phi_prev - &phi).cos();
         (s, c, dn)
     }
+}
+
+/// Bulirsch's recursion (Numerical Recipes' `sncndn`) with its c and dn carried as fractions
+/// c = p/q, dn = r/s, so that no level divides: from c = cos(a_N u)·a_N/sin(a_N u) and, at level
+/// i = N…1 (α_i = a_{i−1}a_i, β_i = b_{i−1}a_i),
+///   c ← c·dn,  dn ← (b_{i−1} + c²/a_i)/(a_{i−1} + c²/a_i) = (β_i q² + p²)/(α_i q² + p²),
+/// then sn = sign(sin)/√(1 + c²) = q/√(p² + q²) and cn = c·sn = p/√(p² + q²). Every sum adds two
+/// positive numbers (no cancellation), so p, q, r, s keep their relative accuracy (also near
+/// the zeros of sn and cn); the last dn is skipped when not wanted.
+struct Recursion<T> {
+    p: T,
+    q: T,
+    /// dn = r/s (None: 1).
+    dn: Option<(T, T)>,
+}
+
+impl<T: Real> Recursion<T> {
+    #[inline(always)]
+    fn new(p: T, q: T) -> Self {
+        Self { p, q, dn: None }
+    }
+
+    /// (sn, cn, dn if wanted).
+    #[inline(always)]
+    fn finish(self, want_dn: bool) -> (T, T, Option<T>) {
+        let mag = self.p.square().add_same_sign(&self.q.square()).recip_sqrt();
+        let dn = want_dn.then(|| self.dn.map_or_else(|| mag.one_like(), |(r, s)| r / s));
+        (self.q * &mag, self.p * &mag, dn)
+    }
+}
+
+/// p and q times one power of two that brings the larger near 1 when it leaves [1e-50, 1e50]
+/// (exact; the fraction p/q is unchanged). Each level of the recursion at most cubes them, so
+/// f64 and double-double numbers never leave their range; MPFR's never need it.
+#[inline(always)]
+fn rescale<T: Real>(p: &mut T, q: &mut T) {
+    let m = p.to_f64().abs().max(q.to_f64().abs());
+    if (1e-50..=1e50).contains(&m) || !(m.is_finite() && m > 0.0) {
+        return;
+    }
+    let k = -(m.log2().round() as i32);
+    let f = p.lit(2f64.powi(k));
+    *p *= &f;
+    *q *= &f;
 }
 
 #[cfg(test)]
@@ -270,6 +336,34 @@ mod tests {
         let (s, c, _) = m64.sn_cn_dn(&2.5);
         assert_eq!(m64.sn_cn(&2.5), (s, c));
         assert!((m64.u_of(&s, &c) - 2.5).abs() < 1e-14);
+    }
+
+    /// Two moduli at once give each one's (sn, cn) bit for bit, also with different level
+    /// counts, a circular modulus (k = 0) and a u at a zero of sn (the Landen branch).
+    #[test]
+    fn pairs_are_each_modulus_alone() {
+        use rsts_dynamics::scalar::DoubleDouble;
+        fn check<T: Real>(lift: impl Fn(f64) -> T) {
+            let k2s = [0.0, 0.3, 0.425, 0.98, 1.0 - 1e-9];
+            let moduli: Vec<_> = k2s
+                .iter()
+                .map(|&k2| EllipticModulus::new(lift(k2), lift(1.0) - lift(k2)))
+                .collect();
+            let levels: Vec<usize> = moduli.iter().map(|m| m.a.len()).collect();
+            assert!(levels.windows(2).any(|w| w[0] != w[1]), "{levels:?}");
+            for m1 in &moduli {
+                for m2 in &moduli {
+                    for (u1, u2) in [(0.1, 2.9), (1.7, -0.4), (0.0, 3.3), (5.5, 0.0)] {
+                        let (u1, u2) = (lift(u1), lift(u2));
+                        let pair = EllipticModulus::sn_cn_pair(m1, &u1, m2, &u2);
+                        assert_eq!(pair, (m1.sn_cn(&u1), m2.sn_cn(&u2)), "{levels:?}");
+                    }
+                }
+            }
+        }
+        check(|x| x);
+        check(DoubleDouble::from_f64_exact);
+        check(f);
     }
 
     #[test]

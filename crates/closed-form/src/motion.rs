@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use crate::camera::Camera;
 use crate::constants::IntegralConstants;
+use crate::elliptic::EllipticModulus;
 use crate::error::ClosedFormError;
 use crate::formulas::{
     body_state, explicit_state, BodyState, ExplicitState, FormulaConstants, SeparatedCoordinates,
@@ -260,8 +261,8 @@ impl<T: Scalar> ExplicitMotion<T> {
     #[inline(always)]
     pub fn body_at(&self, t: &T) -> BodyState<T> {
         let [u1, u2] = self.u_at(t);
-        let (sn1, cn1) = self.first.modulus.sn_cn(&u1);
-        let (sn2, cn2) = self.second.modulus.sn_cn(&u2);
+        let ((sn1, cn1), (sn2, cn2)) =
+            EllipticModulus::sn_cn_pair(&self.first.modulus, &u1, &self.second.modulus, &u2);
         let p1 = self.first.eval::<T>(&sn1, &cn1);
         let p2 = self.second.eval::<T>(&sn2, &cn2);
         body_state(&self.formula, &SeparatedCoordinates::new(p1, p2))

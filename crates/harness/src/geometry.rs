@@ -98,12 +98,7 @@ impl<T: Scalar> Inner<T> {
         let target = x.to_array();
         // The first-order model in (δm, δh) holds for small shifts of the torus only: beyond
         // 1e-2 (an error that has saturated) there is no nearest point near the exact one.
-        let small = |shift: &T| shift.abs().to_f64() <= MAX_SHIFT;
-        match self
-            .projector
-            .project(&target, &guess)
-            .filter(|p| small(&p.dm) && small(&p.dh))
-        {
+        match self.projector.project_within(&target, &guess, MAX_SHIFT) {
             Some(p) => {
                 let pi = std::f64::consts::PI;
                 let phase_error = std::array::from_fn(|i| {

@@ -60,7 +60,7 @@ impl BenchObserver for Watch {
 /// `integrators`: built-in method names (rsts.METHODS) and Python callables
 /// `f(x0, times, a, b, rtol, atol)` (as for rsts.compare), mixed; the built-ins' rows come
 /// first. A callable is called `repeats` times per tolerance; its time is measured around its
-/// call (steps and rhs_evals are 0: it does not report them); its row is named by its
+/// call (steps and rhs_evals are None: not seen from outside); its row is named by its
 /// `__qualname__`. A tolerance below a built-in's round-off is skipped with a warning.
 /// `digits`: taylor-mp's decimal digits (default: those of the smallest tolerance + 10).
 ///

@@ -111,6 +111,12 @@ impl Integrator for Callable {
         rsts_dynamics::scalar::F64_BITS
     }
 
+    /// Its time is measured around the call; its steps and evaluations are not seen (not
+    /// known in compare and bench, not 0).
+    fn stated_stats(&self) -> Option<rsts_harness::StatedStats> {
+        Some(rsts_harness::StatedStats::default())
+    }
+
     fn integrate(
         &mut self,
         problem: &Problem<Float>,
@@ -246,11 +252,8 @@ pub fn compare<'py>(
         let result = compare_integrator(&case, integrator, &options, &mut watch);
         Ok::<_, HarnessError>((result, watch.0.take()))
     });
-    let mut report: Report = finish(result, chosen_error(&mut chosen))?;
-    if let Chosen::Callable(_) = chosen {
-        // Its time is measured around the call; its steps are not seen.
-        report.forget_counts();
-    }
+    // A callable's steps are not seen: not known ([`Callable::stated_stats`]).
+    let report: Report = finish(result, chosen_error(&mut chosen))?;
     // A report with a non-finite figure is an error, as in the CLI.
     check_finite_report(&report).map_err(harness_error)?;
     report_dict(

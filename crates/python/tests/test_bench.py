@@ -75,7 +75,8 @@ def test_a_scipy_integrator_is_measured_beside_the_builtins():
     assert [r["tolerance"] for r in ours] == list(tolerances)
     assert ours[1]["max_error"] < 1e-2 * ours[0]["max_error"], ours
     for r in ours:
-        assert r["steps"] == 0 and r["rhs_evals"] == 0
+        # Its steps are not seen from outside: unknown, not 0.
+        assert r["steps"] is None and r["rhs_evals"] is None
         assert 0 < r["time_min"] <= r["integration_seconds"] <= r["time_max"]
     # The error is the one rsts.check measures on the callable's own answer.
     case = rsts.Case.default()

@@ -268,7 +268,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     progress.bar.finish_and_clear();
 
     if let Some(path) = &args.svg {
-        let chart = diagrams::work_precision(&report, args.cost.into());
+        let cost = diagrams::Cost::from(args.cost);
+        for label in cost.left_out(&report) {
+            eprintln!(
+                "note: --svg: {label} left out of the diagram: its {} are not known",
+                cost.name()
+            );
+        }
+        let chart = diagrams::work_precision(&report, cost);
         let svg = rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg: {e}"))?;
         rsts_io::write_atomic(path, svg.as_bytes())
             .with_context(|| format!("--svg {}", path.display()))?;
@@ -353,8 +360,8 @@ fn table(report: &BenchReport) -> Tabular {
                 "{:.3e} ({:.2e}..{:.2e})",
                 r.integration_seconds, r.time_min, r.time_max
             )),
-            Cell::Int(r.steps),
-            Cell::Int(r.rhs_evals),
+            Cell::Text(output::or_na(r.steps)),
+            Cell::Text(output::or_na(r.rhs_evals)),
         ];
         if with_events {
             let ev = r.events.as_ref();

@@ -527,30 +527,26 @@ pub(crate) fn write_table(
         ("drift of on-N relations", e(r.drift.off_n)),
         (
             "steps (rejected)",
-            format!("{} ({})", or_na(r.steps), or_na(r.rejected_steps)),
+            format!(
+                "{} ({})",
+                output::or_na(r.steps),
+                output::or_na(r.rejected_steps)
+            ),
         ),
-        ("rhs evaluations", or_na(r.rhs_evals)),
+        ("rhs evaluations", output::or_na(r.rhs_evals)),
         (
             "integration time",
             match (r.integration_seconds, r.wall_seconds) {
                 (Some(s), Some(w)) => format!("{s:.6} s (process wall time {w:.6} s)"),
                 (Some(s), None) => format!("{s:.6} s"),
                 (None, Some(w)) => format!("n/a (process wall time {w:.6} s)"),
-                (None, None) => NA.to_string(),
+                (None, None) => output::NA.to_string(),
             },
         ),
     ];
     items.extend(geometry_lines(r));
     output::write_key_values(out, &items)?;
     Ok(())
-}
-
-/// What a table shows for a figure that is not known (JSON: null).
-const NA: &str = "n/a";
-
-/// A count, or "n/a" when not known.
-fn or_na(x: Option<u64>) -> String {
-    x.map_or_else(|| NA.to_string(), |x| x.to_string())
 }
 
 /// `scd 9.81 (min 9.52), mescd 10.13 (min 9.84)`: at the last sample and the worst.

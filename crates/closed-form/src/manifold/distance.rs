@@ -15,16 +15,25 @@
 //! motion is the growth of its departure from N. Gradients come from the one definition of the
 //! integrals in `rsts_dynamics::integrals`, differentiated with dual numbers.
 
-use rsts_dynamics::dual::Dual;
 use rsts_dynamics::integrals::integrals;
 use rsts_dynamics::jet::Jet;
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::vec3::cross;
 use rsts_dynamics::{Fields, Real, State};
 
+use crate::manifold::phi_field::{phi_field_derivative, phi_gradient};
+use crate::manifold::spectral::largest_eigenvalue;
+
 /// A function on the phase space, written once over any scalar (so it can be differentiated).
 pub trait PhaseFunction {
     fn eval<S: Real>(&self, fields: &Fields<S>, s: &State<S>) -> S;
+    /// ∂F/∂(ω, α, β): by default the jet [`gradient`] of [`PhaseFunction::eval`].
+    fn grad<T: Real>(&self, fields: &Fields<T>, s: &State<T>) -> [T; DIM]
+    where
+        Self: Sized,
+    {
+        gradient(self, fields, s)
+    }
 }
 
 /// The energy H.
@@ -58,6 +67,10 @@ impl PhaseFunction for Phi {
         let r2 = fields.r2();
         let l = i.g.lit(2.0) * &i.g - fields.p2() * &i.h;
         r2.square() * &i.k - l.square()
+    }
+    /// The gradient written out ([`phi_gradient`]; a test checks it against the jet gradient).
+    fn grad<T: Real>(&self, fields: &Fields<T>, s: &State<T>) -> [T; DIM] {
+        phi_gradient(fields, s)
     }
 }
 
@@ -116,7 +129,7 @@ pub fn hamiltonian_field<T: Real>(s: &State<T>, grad: &[T; DIM]) -> [T; DIM] {
 
 /// X_F at a state.
 pub fn field_of<T: Real, F: PhaseFunction>(f: &F, fields: &Fields<T>, s: &State<T>) -> [T; DIM] {
-    hamiltonian_field(s, &gradient(f, fields, s))
+    hamiltonian_field(s, &f.grad(fields, s))
 }
 
 /// The distance from N at a state.
@@ -173,43 +186,44 @@ fn fields_f64<T: Real>(fields: &Fields<T>) -> Fields<f64> {
     }
 }
 
-/// The gain g(x) of [`DistanceFromN`] (f64: it only scales the distance).
+/// The gain g(x) of [`DistanceFromN`] (f64: it only scales the distance): the square root of
+/// the largest eigenvalue of the 6×6 Gram matrix JᵀJ of the derivative J of X_Φ along the
+/// constraint surface ([`largest_eigenvalue`]). The eigenvalue is accurate to a few ulps of |J|² (so the gain to a few
+/// ulps of itself, being |J|₂); only the small singular values need the SVD of [`stretches`].
 pub fn gain(fields: &Fields<f64>, s: &State<f64>) -> f64 {
-    stretches(fields, s)[0]
+    let j = constraint_derivative(fields, s);
+    let gram: [[f64; 6]; 6] =
+        std::array::from_fn(|p| std::array::from_fn(|q| (0..DIM).map(|k| j[k][p] * j[k][q]).sum()));
+    largest_eigenvalue(gram).max(0.0).sqrt()
+}
+
+/// The derivative J (9×6) of X_Φ along six orthonormal directions of the constraint surface
+/// |α| = |β| = 1, α·β = 0: δω = e₁, e₂, e₃, and (δα, δβ) = (θ×α, θ×β) for θ = α, β, γ/√2.
+fn constraint_derivative(fields: &Fields<f64>, s: &State<f64>) -> [[f64; 6]; DIM] {
+    let gamma = s.gamma();
+    let s2 = std::f64::consts::FRAC_1_SQRT_2;
+    let rotations = [s.alpha, s.beta, gamma.map(|x| x * s2)];
+    let directions: [[f64; DIM]; 6] = std::array::from_fn(|j| {
+        let mut d = [0.0; DIM];
+        if j < 3 {
+            d[j] = 1.0;
+        } else {
+            let th = &rotations[j - 3];
+            let (da, db) = (cross(th, &s.alpha), cross(th, &s.beta));
+            d[3..6].copy_from_slice(&da);
+            d[6..9].copy_from_slice(&db);
+        }
+        d
+    });
+    phi_field_derivative(fields, s, &directions)
 }
 
 /// The singular values (largest first) of the derivative of X_Φ along the six directions of
 /// the constraint surface. On N exactly two are non-zero: the normal space of N in the
 /// constraint surface is two-dimensional and X_Φ vanishes on N.
 pub fn stretches(fields: &Fields<f64>, s: &State<f64>) -> [f64; 6] {
-    let dual_fields = Fields {
-        a: Dual::constant(fields.a),
-        b: Dual::constant(fields.b),
-    };
-    let gamma = s.gamma();
-    let s2 = std::f64::consts::FRAC_1_SQRT_2;
-    // Six orthonormal directions of the constraint surface, as (δω, θ): δα = θ×α, δβ = θ×β.
-    let dirs: [([f64; 3], [f64; 3]); 6] = [
-        ([1.0, 0.0, 0.0], [0.0; 3]),
-        ([0.0, 1.0, 0.0], [0.0; 3]),
-        ([0.0, 0.0, 1.0], [0.0; 3]),
-        ([0.0; 3], s.alpha),
-        ([0.0; 3], s.beta),
-        ([0.0; 3], gamma.map(|x| x * s2)),
-    ];
-    let columns: Vec<[f64; DIM]> = dirs
-        .iter()
-        .map(|(dw, th)| {
-            let (da, db) = (cross(th, &s.alpha), cross(th, &s.beta));
-            let moving = State {
-                omega: std::array::from_fn(|i| Dual::new(s.omega[i], dw[i])),
-                alpha: std::array::from_fn(|i| Dual::new(s.alpha[i], da[i])),
-                beta: std::array::from_fn(|i| Dual::new(s.beta[i], db[i])),
-            };
-            field_of(&Phi, &dual_fields, &moving).map(|x| x.eps)
-        })
-        .collect();
-    let matrix = nalgebra::SMatrix::<f64, DIM, 6>::from_fn(|k, j| columns[j][k]);
+    let j = constraint_derivative(fields, s);
+    let matrix = nalgebra::SMatrix::<f64, DIM, 6>::from_fn(|k, q| j[k][q]);
     let sv = matrix.singular_values();
     let mut values: [f64; 6] = std::array::from_fn(|k| sv[k]);
     values.sort_by(|x, y| y.total_cmp(x));

@@ -6,8 +6,10 @@
 pub mod distance;
 pub mod identify;
 pub mod normal;
+pub mod phi_field;
 pub mod project;
 pub mod relations;
+pub mod spectral;
 pub mod torus_map;
 
 pub use distance::{distance, DistanceFromN};

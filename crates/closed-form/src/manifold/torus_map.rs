@@ -2,6 +2,7 @@
 //! separated coordinates and the nearest point of it to a state (Gauss–Newton).
 
 use rsts_dynamics::dual::Dual;
+use rsts_dynamics::jet::Jet;
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::Real;
 
@@ -254,16 +255,67 @@ pub(crate) fn seeded<T: Real>(
     } else {
         (zero.clone(), one)
     };
-    let motion = ExplicitMotion::<Dual<T>>::build(
-        Dual::constant(a.clone()),
-        Dual::constant(b.clone()),
-        Dual::new(m.clone(), dm),
-        Dual::new(h.clone(), dh),
-        TorusChoice {
-            torus,
-            phase1: 0.0,
-            phase2: 0.0,
-        },
-    )?;
-    Ok(TorusMap::of_motion(&motion))
+    let constant = |x: &T| Dual::constant(x.clone());
+    let (m, h) = (Dual::new(m.clone(), dm), Dual::new(h.clone(), dh));
+    torus_of([constant(a), constant(b), m, h], torus)
+}
+
+/// The torus `torus` of (m, h) over any scalar (seeded derivatives ride along).
+fn torus_of<S: Real>([a, b, m, h]: [S; 4], torus: usize) -> Result<TorusMap<S>, ClosedFormError> {
+    let choice = TorusChoice {
+        torus,
+        phase1: 0.0,
+        phase2: 0.0,
+    };
+    Ok(TorusMap::of_motion(&ExplicitMotion::build(
+        a, b, m, h, choice,
+    )?))
+}
+
+/// The torus `torus` of (m, h) built over jets seeded in m (direction 0) and h (direction 1): its
+/// points' derivatives are ∂(state)/∂m and ∂(state)/∂h at fixed angles in one evaluation, each
+/// bit for bit that of [`seeded`] (a jet's direction is its dual number).
+pub(crate) fn seeded_mh<T: Real>(
+    [a, b, m, h]: [&T; 4],
+    torus: usize,
+) -> Result<TorusMap<Jet<T, 2>>, ClosedFormError> {
+    let constant = |x: &T| Jet::constant(x.clone());
+    let (m, h) = (Jet::variable(m.clone(), 0), Jet::variable(h.clone(), 1));
+    torus_of([constant(a), constant(b), m, h], torus)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The m and h columns of one jet evaluation are those of the two dual evaluations, bit for
+    /// bit, on every torus of a camera with m > 0 and one with m < 0.
+    #[test]
+    fn jet_columns_are_the_dual_columns_bit_for_bit() {
+        let mut compared = 0;
+        for (m, h) in [(0.3, -0.375), (-0.2, 0.3), (0.5, 0.1), (-0.05, -0.3)] {
+            for torus in 0..4 {
+                let k = [&1.0, &0.6, &m, &h];
+                let (Ok(jet), Ok(in_m), Ok(in_h)) = (
+                    seeded_mh(k, torus),
+                    seeded(k, torus, true),
+                    seeded(k, torus, false),
+                ) else {
+                    continue;
+                };
+                for psi in [[0.1, 2.0], [3.0, 5.5], [6.0, 0.7]] {
+                    let x = jet.state_at(&psi.map(Jet::constant));
+                    let dm = in_m.state_at(&psi.map(Dual::constant));
+                    let dh = in_h.state_at(&psi.map(Dual::constant));
+                    for j in 0..DIM {
+                        assert_eq!(x[j].eps[0].to_bits(), dm[j].eps.to_bits(), "∂/∂m {j}");
+                        assert_eq!(x[j].eps[1].to_bits(), dh[j].eps.to_bits(), "∂/∂h {j}");
+                        assert_eq!(x[j].re.to_bits(), dm[j].re.to_bits(), "value {j}");
+                    }
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared >= 12, "only {compared} points compared");
+    }
 }

@@ -47,36 +47,36 @@ impl ExplicitMotion<DoubleDouble> {
     /// ω, α, β at the f64 time `t` on the fastest path of this CPU.
     #[inline]
     pub fn body_at_f64(&self, t: f64) -> BodyState<DoubleDouble> {
-        match DdPath::detect() {
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: the CPU has FMA (detected).
-            DdPath::Fma => unsafe { body_fma(self, t) },
-            _ => body_portable(self, t),
-        }
+        self.on_path(DdPath::detect(), t, body_fma, body_portable)
     }
 
     /// The whole state at the f64 time `t` on the fastest path of this CPU.
     #[inline]
     pub fn at_f64(&self, t: f64) -> ExplicitState<DoubleDouble> {
-        match DdPath::detect() {
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: the CPU has FMA (detected).
-            DdPath::Fma => unsafe { state_fma(self, t) },
-            _ => state_portable(self, t),
-        }
+        self.on_path(DdPath::detect(), t, state_fma, state_portable)
     }
 
     /// [`Self::body_at_f64`] on a given path; `None` when this CPU lacks it.
     pub fn body_at_f64_on(&self, path: DdPath, t: f64) -> Option<BodyState<DoubleDouble>> {
-        if !path.available() {
-            return None;
-        }
-        Some(match path {
+        path.available()
+            .then(|| self.on_path(path, t, body_fma, body_portable))
+    }
+
+    /// `fma` or `portable` of the motion at `t` by `path`, which this CPU must have.
+    #[inline(always)]
+    fn on_path<R>(
+        &self,
+        path: DdPath,
+        t: f64,
+        #[allow(unused_variables)] fma: unsafe fn(&Self, f64) -> R,
+        portable: fn(&Self, f64) -> R,
+    ) -> R {
+        match path {
             #[cfg(target_arch = "x86_64")]
-            // SAFETY: the CPU has FMA (checked above).
-            DdPath::Fma => unsafe { body_fma(self, t) },
-            _ => body_portable(self, t),
-        })
+            // SAFETY: the callers pass DdPath::Fma only when the CPU has FMA (detected).
+            DdPath::Fma => unsafe { fma(self, t) },
+            _ => portable(self, t),
+        }
     }
 }
 

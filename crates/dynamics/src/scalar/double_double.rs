@@ -5,20 +5,13 @@
 //! The field operations are built on the error-free transformations `two_sum` (Knuth) and
 //! `two_prod` (one fused multiply-add, `f64::mul_add`); addition is the accurate ("IEEE") variant
 //! of Hida, Li & Bailey's QD library, whose relative error is a few units of 2⁻¹⁰⁶ even under
-//! cancellation (Joldes, Muller, Popescu, ACM TOMS 44 (2017), Alg. 6). Elementary functions:
+//! cancellation (Joldes, Muller, Popescu, ACM TOMS 44 (2017), Alg. 6). The elementary functions
+//! (sqrt, 1/√, sin and cos, exp, ln, atan2) are in `double_double/functions.rs`; in this module:
 //!
-//! * `sqrt`: one Newton step on the f64 square root (Karp's trick);
-//! * `exp`: reduction by m·ln 2 (ln 2 in three parts) and by 2⁻⁹, Taylor series of expm1,
-//!   nine squarings, scaling by 2^m;
-//! * `sin`, `cos`: reduction by n·π/16 (π/16 in three parts, exact products; a table of sin,
-//!   cos kπ/16, |k| ≤ 4, and the quadrant by symmetry), Taylor series of sin on |t| ≤ π/32,
-//!   cos t = √(1 − sin²t);
-//! * `ln`, `atan2`: one Newton step from the `f64` value (the error squares: 53 → 106 bits);
-//!   `ln` near 1 is accurate to ~1e-32 absolutely rather than relatively;
 //! * `parse` and `to_decimal` go through MPFR (`rug::Float`) at 256 bits, so decimal input is
 //!   correctly rounded to the double-double grid up to the last bit of `lo`.
 //!
-//! Accuracy is tested against `rug::Float` at 200 bits on random inputs (unit tests below).
+//! Accuracy is tested against `rug::Float` at 200 bits on random inputs (`tests`).
 
 use std::cmp::Ordering;
 use std::fmt;
@@ -221,101 +214,6 @@ impl DoubleDouble {
         let (s, e) = two_sum(self.hi, b.hi);
         Self::from_quick(s, e + (self.lo + b.lo))
     }
-
-    /// (sin t, cos t) for |t| ≤ π/32, rotated by kπ/16 (|k| ≤ 4): sin t by its Taylor
-    /// polynomial to t¹⁹ (Horner in t², coefficients 1/n! to 106 bits, the terms from t¹¹ on
-    /// in f64), cos t = √(1 − sin²t), then the angle-sum formulas with sin, cos of kπ/16 from a
-    /// table (QD's method). No sum here cancels (each one's smaller addend is below half the
-    /// larger: |sin(π/16)cos(π/32)| > 2·|cos(π/16)sin(π/32)|), so they are [`Self::add_no_cancel`].
-    #[inline(always)]
-    fn sin_cos_reduced(t: Self, k: f64) -> (Self, Self) {
-        let tables = sin_cos_tables();
-        let t2 = t.sqr();
-        let c = &tables.inverse_factorials;
-        // The terms from t¹¹ on are below 1.3e-15 of the first (t⁸·3!/11! for |t| ≤ π/32):
-        // their sum in plain f64 errs by ~1e-31 of the series (t³/6), ~1e-33 of sin t.
-        let mut tail = c[8].hi;
-        for ck in c[4..8].iter().rev() {
-            tail = tail * t2.hi + ck.hi;
-        }
-        let mut p = t2.mul_f64(tail).add_no_cancel(c[3]);
-        for ck in c[..3].iter().rev() {
-            p = (p * t2).add_no_cancel(*ck);
-        }
-        let sin_t = t.add_no_cancel(t * t2 * p);
-        let cos_t = Self::ONE.add_no_cancel(-sin_t.sqr()).sqrt();
-        let j = k.abs() as usize;
-        if j == 0 {
-            return (sin_t, cos_t);
-        }
-        let (sk, ck) = tables.sin_cos_k16[j - 1];
-        let sk = if k < 0.0 { -sk } else { sk };
-        (
-            (sk * cos_t).add_no_cancel(ck * sin_t),
-            (ck * cos_t).add_no_cancel(-(sk * sin_t)),
-        )
-    }
-
-    /// (sin x, cos x): x = nπ/16 + t with |t| ≤ π/32 in one reduction (π/16 in three parts,
-    /// n·p₀ and n·p₁ exact: accurate to 2⁻¹⁰⁶ relative to t for |n| < 2⁵⁰), n = 8j + k with
-    /// |k| ≤ 4, the quadrant j by symmetry.
-    #[inline(always)]
-    pub fn sin_cos(&self) -> (Self, Self) {
-        if !self.hi.is_finite() {
-            return (Self::nan(), Self::nan());
-        }
-        if self.is_zero() {
-            return (*self, Self::ONE);
-        }
-        let n = (self.hi * (16.0 / std::f64::consts::PI)).round();
-        // π/16 in three parts (exact: π's parts scaled by 2⁻⁴).
-        let t = *self - Self::prod_f64(n, PI[0] / 16.0);
-        let t = t - Self::prod_f64(n, PI[1] / 16.0);
-        let t = t - Self::from_f64_exact(n * (PI[2] / 16.0));
-        let j = (n / 8.0).round();
-        let (s, c) = Self::sin_cos_reduced(t, n - 8.0 * j);
-        match (j.rem_euclid(4.0)) as u32 {
-            0 => (s, c),
-            1 => (c, -s),
-            2 => (-s, -c),
-            _ => (-c, s),
-        }
-    }
-}
-
-/// Constants of [`DoubleDouble::sin_cos`], computed once in MPFR.
-struct SinCosTables {
-    /// (−1)ⁿ/(2n + 1)! for n = 1…9 (the odd Taylor coefficients of sin from t³ to t¹⁹).
-    inverse_factorials: [DoubleDouble; 9],
-    /// (sin kπ/16, cos kπ/16) for k = 1…4.
-    sin_cos_k16: [(DoubleDouble, DoubleDouble); 4],
-}
-
-fn sin_cos_tables() -> &'static SinCosTables {
-    static TABLES: std::sync::OnceLock<SinCosTables> = std::sync::OnceLock::new();
-    TABLES.get_or_init(|| {
-        let bits = MPFR_BITS;
-        let inverse_factorials = std::array::from_fn(|i| {
-            let n = 2 * i as u32 + 3;
-            let mut f = Float::with_val(bits, 1);
-            for j in 2..=n {
-                f *= j;
-            }
-            let x = Float::with_val(bits, 1) / f;
-            let x = if i % 2 == 0 { -x } else { x };
-            DoubleDouble::from_float(&x)
-        });
-        let pi = Float::with_val(bits, rug::float::Constant::Pi);
-        let sin_cos_k16 = std::array::from_fn(|i| {
-            let a = Float::with_val(bits, &pi * (i as u32 + 1)) / 16u32;
-            let (s, c) = a.sin_cos(Float::new(bits));
-            (DoubleDouble::from_float(&s), DoubleDouble::from_float(&c))
-        });
-        SinCosTables {
-            inverse_factorials,
-            sin_cos_k16,
-        }
-    })
 }
 
 impl fmt::Display for DoubleDouble {
@@ -447,20 +345,16 @@ impl Real for DoubleDouble {
     }
     #[inline(always)]
     fn sqrt(&self) -> Self {
-        if self.is_zero() {
-            return *self;
-        }
-        if self.is_negative() || self.hi.is_nan() {
-            return Self::nan();
-        }
-        if self.hi.is_infinite() {
-            return *self;
-        }
-        // Karp: y ≈ 1/√a, √a ≈ a·y + (a − (a·y)²)·y/2.
-        let y = 1.0 / self.hi.sqrt();
-        let ay = self.hi * y;
-        let r = *self - Self::prod_f64(ay, ay);
-        Self::from_f64_exact(ay).add_f64(r.hi * (y * 0.5))
+        self.sqrt_karp()
+    }
+    /// Newton's step from the f64 value ([`DoubleDouble::recip_sqrt_newton`]).
+    #[inline(always)]
+    fn recip_sqrt(&self) -> Self {
+        self.recip_sqrt_newton()
+    }
+    #[inline(always)]
+    fn add_same_sign(self, other: &Self) -> Self {
+        self.add_no_cancel(*other)
     }
     #[inline(always)]
     fn abs(&self) -> Self {
@@ -488,88 +382,13 @@ impl Real for DoubleDouble {
         self.sqr()
     }
     fn atan2(&self, x: &Self) -> Self {
-        let y = self;
-        if x.is_zero() || y.is_zero() || !x.hi.is_finite() || !y.hi.is_finite() {
-            // Exact special values (0, ±π/2, ±π) or IEEE results for infinities/NaN; the
-            // multiples of π are given to full precision.
-            let z = f64::atan2(y.hi, x.hi);
-            let pi = Self::PI;
-            return if z == std::f64::consts::PI {
-                pi
-            } else if z == -std::f64::consts::PI {
-                -pi
-            } else if z == std::f64::consts::FRAC_PI_2 {
-                pi.mul_f64(0.5)
-            } else if z == -std::f64::consts::FRAC_PI_2 {
-                -pi.mul_f64(0.5)
-            } else {
-                Self::from_f64_exact(z)
-            };
-        }
-        let z = Self::from_f64_exact(f64::atan2(y.hi, x.hi));
-        let r = (x.sqr() + y.sqr()).sqrt();
-        let (xx, yy) = (*x / r, *y / r);
-        let (s, c) = z.sin_cos();
-        if xx.hi.abs() > yy.hi.abs() {
-            // Newton on sin z = yy.
-            z + (yy - s) / c
-        } else {
-            // Newton on cos z = xx.
-            z - (xx - c) / s
-        }
+        self.atan2_newton(x)
     }
     fn exp(&self) -> Self {
-        if self.hi > 709.79 {
-            return Self::from_f64_exact(f64::INFINITY);
-        }
-        if self.hi < -745.2 {
-            return Self::ZERO;
-        }
-        if self.hi.is_nan() {
-            return Self::nan();
-        }
-        if self.is_zero() {
-            return Self::ONE;
-        }
-        let m = (self.hi / LN2[0]).round();
-        let r = *self - Self::prod_f64(m, LN2[0]);
-        let r = r - Self::prod_f64(m, LN2[1]);
-        let r = r - Self::from_f64_exact(m * LN2[2]);
-        // |r| ≤ ln2/2; r/512 ≤ 6.8e-4: expm1 by Taylor series, then (1+s)² − 1 = s(s + 2) nine
-        // times.
-        let r = r.ldexp(-9);
-        let mut term = r;
-        let mut s = r;
-        let mut i = 2.0;
-        loop {
-            term = (term * r).div_f64(i);
-            s += term;
-            i += 1.0;
-            if term.hi.abs() <= SERIES_CUTOFF * s.hi.abs() {
-                break;
-            }
-        }
-        for _ in 0..9 {
-            s = s * s.add_f64(2.0);
-        }
-        s.add_f64(1.0).ldexp(m as i32)
+        self.exp_series()
     }
     fn ln(&self) -> Self {
-        if self.hi.is_nan() || self.is_negative() && !self.is_zero() {
-            return Self::nan();
-        }
-        if self.is_zero() {
-            return Self::from_f64_exact(f64::NEG_INFINITY);
-        }
-        if self.hi.is_infinite() {
-            return *self;
-        }
-        if *self == Self::ONE {
-            return Self::ZERO;
-        }
-        // Newton on exp(y) = x: y ← y + x·exp(−y) − 1.
-        let y = Self::from_f64_exact(self.hi.ln());
-        y + (*self * (-y).exp()).add_f64(-1.0)
+        self.ln_newton()
     }
     fn floor(&self) -> Self {
         let hi = self.hi.floor();
@@ -591,208 +410,6 @@ impl Real for DoubleDouble {
     }
 }
 
+mod functions;
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use rand::{Rng, SeedableRng};
-    use rand_chacha::ChaCha8Rng;
-
-    const REF_BITS: u32 = 200;
-    const SAMPLES: usize = 2000;
-    /// Required relative accuracy of every operation (2⁻¹⁰⁶ ≈ 1.2e-32; a few ulps allowed).
-    const TOL: f64 = 1e-30;
-
-    type Dd = DoubleDouble;
-
-    /// A random double-double with hi log-uniform in ±[2^lo_exp, 2^hi_exp] and a full lo.
-    fn random_dd(rng: &mut ChaCha8Rng, lo_exp: f64, hi_exp: f64, signed: bool) -> Dd {
-        let mag = 2f64.powf(rng.gen_range(lo_exp..hi_exp));
-        let sign = if signed && rng.gen_bool(0.5) {
-            -1.0
-        } else {
-            1.0
-        };
-        let hi = sign * mag;
-        // |lo| < ulp(hi)/2.
-        let ulp = 2f64.powi(hi.abs().log2().floor() as i32 - 52);
-        Dd::new(hi, rng.gen_range(-0.49..0.49) * ulp)
-    }
-
-    fn rel_err(x: &Dd, reference: &Float) -> f64 {
-        let d = Float::with_val(REF_BITS, &x.to_float(REF_BITS) - reference);
-        if reference.is_zero() {
-            return d.to_f64().abs();
-        }
-        (d / reference).to_f64().abs()
-    }
-
-    /// Largest relative error of a unary operation over random inputs from `input`.
-    fn max_err_unary(
-        seed: u64,
-        input: impl Fn(&mut ChaCha8Rng) -> Dd,
-        op: impl Fn(&Dd) -> Dd,
-        reference: impl Fn(Float) -> Float,
-    ) -> f64 {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        (0..SAMPLES)
-            .map(|_| {
-                let x = input(&mut rng);
-                rel_err(&op(&x), &reference(x.to_float(REF_BITS)))
-            })
-            .fold(0.0, f64::max)
-    }
-
-    fn max_err_binary(
-        seed: u64,
-        op: impl Fn(Dd, Dd) -> Dd,
-        reference: impl Fn(Float, Float) -> Float,
-    ) -> f64 {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        (0..SAMPLES)
-            .map(|_| {
-                let x = random_dd(&mut rng, -30.0, 30.0, true);
-                let y = random_dd(&mut rng, -30.0, 30.0, true);
-                rel_err(
-                    &op(x, y),
-                    &reference(x.to_float(REF_BITS), y.to_float(REF_BITS)),
-                )
-            })
-            .fold(0.0, f64::max)
-    }
-
-    #[test]
-    fn field_operations_are_accurate_to_106_bits() {
-        let cases: [(&str, f64); 4] = [
-            ("add", max_err_binary(1, |a, b| a + b, |a, b| a + b)),
-            ("sub", max_err_binary(2, |a, b| a - b, |a, b| a - b)),
-            ("mul", max_err_binary(3, |a, b| a * b, |a, b| a * b)),
-            ("div", max_err_binary(4, |a, b| a / b, |a, b| a / b)),
-        ];
-        for (name, err) in cases {
-            assert!(err < TOL, "{name}: max relative error {err:e}");
-        }
-    }
-
-    #[test]
-    fn subtraction_under_cancellation_stays_relative() {
-        // x − y with y = x(1 + δ): the accurate sum keeps the relative accuracy of the result.
-        let mut rng = ChaCha8Rng::seed_from_u64(5);
-        let mut worst: f64 = 0.0;
-        for _ in 0..SAMPLES {
-            let x = random_dd(&mut rng, -5.0, 5.0, true);
-            let d = random_dd(&mut rng, -90.0, -10.0, true);
-            let y = x * d.add_f64(1.0);
-            let r = x.to_float(REF_BITS) - y.to_float(REF_BITS);
-            worst = worst.max(rel_err(&(x - y), &Float::with_val(REF_BITS, r)));
-        }
-        assert!(worst < TOL, "max relative error {worst:e}");
-    }
-
-    #[test]
-    fn functions_are_accurate_to_about_32_digits() {
-        let pos = |rng: &mut ChaCha8Rng| random_dd(rng, -40.0, 40.0, false);
-        let angle = |rng: &mut ChaCha8Rng| random_dd(rng, -20.0, 7.0, true);
-        let exp_arg = |rng: &mut ChaCha8Rng| random_dd(rng, -30.0, 9.4, true);
-        let cases: [(&str, f64); 5] = [
-            ("sqrt", max_err_unary(11, pos, |x| x.sqrt(), |x| x.sqrt())),
-            ("sin", max_err_unary(12, angle, |x| x.sin(), |x| x.sin())),
-            ("cos", max_err_unary(13, angle, |x| x.cos(), |x| x.cos())),
-            ("exp", max_err_unary(14, exp_arg, |x| x.exp(), |x| x.exp())),
-            (
-                "ln",
-                // Away from 1 (where ln is accurate absolutely, tested below).
-                max_err_unary(
-                    15,
-                    |rng| {
-                        let x = pos(rng);
-                        if (x.hi - 1.0).abs() < 0.05 {
-                            x.add_f64(0.5)
-                        } else {
-                            x
-                        }
-                    },
-                    |x| x.ln(),
-                    |x| x.ln(),
-                ),
-            ),
-        ];
-        for (name, err) in cases {
-            assert!(err < TOL, "{name}: max relative error {err:e}");
-        }
-    }
-
-    #[test]
-    fn ln_near_one_is_accurate_absolutely() {
-        let mut rng = ChaCha8Rng::seed_from_u64(16);
-        let mut worst: f64 = 0.0;
-        for _ in 0..SAMPLES {
-            let x = random_dd(&mut rng, -60.0, -4.4, true).add_f64(1.0);
-            let reference = x.to_float(REF_BITS).ln();
-            let d = Float::with_val(REF_BITS, &x.ln().to_float(REF_BITS) - &reference);
-            worst = worst.max(d.to_f64().abs());
-        }
-        assert!(worst < 1e-31, "max absolute error {worst:e}");
-    }
-
-    #[test]
-    fn atan2_is_accurate_in_every_quadrant() {
-        let mut rng = ChaCha8Rng::seed_from_u64(17);
-        let mut worst: f64 = 0.0;
-        for _ in 0..SAMPLES {
-            let y = random_dd(&mut rng, -20.0, 20.0, true);
-            let x = random_dd(&mut rng, -20.0, 20.0, true);
-            let reference = y.to_float(REF_BITS).atan2(&x.to_float(REF_BITS));
-            worst = worst.max(rel_err(&y.atan2(&x), &reference));
-        }
-        assert!(worst < TOL, "atan2: max relative error {worst:e}");
-        assert_eq!(Dd::ZERO.atan2(&Dd::from_f64_exact(-1.0)), Dd::PI);
-        assert_eq!(Dd::ONE.atan2(&Dd::ZERO), Dd::PI.mul_f64(0.5));
-    }
-
-    #[test]
-    fn constants_match_mpfr() {
-        use rug::float::Constant;
-        let pi = Float::with_val(400, Constant::Pi);
-        let ln2 = Float::with_val(400, Constant::Log2);
-        for (parts, reference) in [(PI, pi.clone()), (LN2, ln2)] {
-            let mut sum = Float::with_val(400, 0);
-            for p in parts {
-                sum += p;
-            }
-            let err = Float::with_val(400, &sum - &reference) / &reference;
-            assert!(err.to_f64().abs() < 1e-48, "{parts:?}");
-        }
-        let eps = Dd::ONE.epsilon();
-        assert!(Dd::ONE + eps > Dd::ONE);
-        assert_eq!(eps.hi, 2f64.powi(-105));
-    }
-
-    #[test]
-    fn decimal_text_round_trips_to_full_precision() {
-        let x = <Dd as Real>::parse("0.1", 0).unwrap();
-        let tenth = Float::with_val(REF_BITS, Float::parse("0.1").unwrap());
-        assert!(rel_err(&x, &tenth) < 2f64.powi(-106), "{x:?}");
-        let third = Dd::ONE / Dd::from_f64_exact(3.0);
-        let s = third.to_decimal(32);
-        assert_eq!(s.matches('3').count(), 32, "{s}");
-        let back = <Dd as Real>::parse(&s, 0).unwrap();
-        assert!((back - third).abs().hi < 1e-32);
-        assert!(<Dd as Real>::parse("not a number", 0).is_none());
-        assert_eq!(Dd::from_f64_exact(-2.5).floor().hi, -3.0);
-        assert_eq!(Dd::new(3.0, -1e-20).floor(), Dd::from_f64_exact(2.0));
-    }
-
-    /// The accuracy check is not vacuous: a "double-double" that multiplies in plain f64 fails it.
-    #[test]
-    fn accuracy_check_rejects_f64_arithmetic() {
-        let err = max_err_binary(3, |a, b| Dd::from_f64_exact(a.hi * b.hi), |a, b| a * b);
-        assert!(err > 1e-20, "f64 product passed as 106-bit: {err:e}");
-        let err = max_err_unary(
-            12,
-            |rng| random_dd(rng, -20.0, 7.0, true),
-            |x| Dd::from_f64_exact(x.hi.sin()),
-            |x| x.sin(),
-        );
-        assert!(err > 1e-20, "f64 sine passed as 106-bit: {err:e}");
-    }
-}
+mod tests;

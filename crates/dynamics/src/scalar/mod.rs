@@ -121,6 +121,15 @@ pub trait Real:
     fn mul_add_assign(&mut self, a: &Self, b: &Self) {
         *self += a.clone() * b;
     }
+    /// `self + other` for two numbers of one sign (no cancellation): double-double adds them
+    /// with one error-free sum instead of two.
+    fn add_same_sign(self, other: &Self) -> Self {
+        self + other
+    }
+    /// 1/√self.
+    fn recip_sqrt(&self) -> Self {
+        self.one_like() / self.sqrt()
+    }
     fn max_of(self, other: Self) -> Self {
         if other > self {
             other
@@ -250,6 +259,9 @@ impl Real for Float {
     }
     fn div_small(&mut self, d: u32) {
         *self /= d;
+    }
+    fn recip_sqrt(&self) -> Self {
+        self.clone().recip_sqrt()
     }
     fn mul_add_assign(&mut self, a: &Self, b: &Self) {
         // Product rounded to the working precision, then a same-precision sum: about twice as

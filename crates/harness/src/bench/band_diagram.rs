@@ -26,7 +26,8 @@ pub fn ensemble_work_precision(report: &BenchReport, cost: Cost) -> Chart {
                 .zip(&report.labels)
                 .filter(|(r, _)| r.method == band.method && r.tolerance == band.tolerance)
         };
-        let costs: Vec<f64> = of().map(|(r, _)| cost.of(r)).collect();
+        // The median over the motions that state the cost (none: the band is not drawn).
+        let costs: Vec<f64> = of().filter_map(|(r, _)| cost.of(r)).collect();
         let c = match cost {
             Cost::Seconds => band.time_median,
             _ => percentile(&costs, 0.5),

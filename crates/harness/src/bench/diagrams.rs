@@ -15,12 +15,35 @@ pub enum Cost {
 }
 
 impl Cost {
-    /// The cost of a row.
-    pub fn of(&self, row: &BenchRow) -> f64 {
+    /// The cost of a row; `None` when not known (an integrator that does not state its steps
+    /// or evaluations) or not positive (no point on a log axis).
+    pub fn of(&self, row: &BenchRow) -> Option<f64> {
+        let c = match self {
+            Cost::Seconds => Some(row.integration_seconds),
+            Cost::RhsEvals => row.rhs_evals.map(|n| n as f64),
+            Cost::Steps => row.steps.map(|n| n as f64),
+        };
+        c.filter(|&c| c > 0.0)
+    }
+
+    /// The labels of the rows the diagram of `report` leaves out for want of this cost, each
+    /// once (the caller notes them: a point left out is said, not silently lost).
+    pub fn left_out(&self, report: &BenchReport) -> Vec<String> {
+        let mut labels: Vec<String> = Vec::new();
+        for (row, l) in report.rows.iter().zip(&report.labels) {
+            if self.of(row).is_none() && !labels.contains(&l.label) {
+                labels.push(l.label.clone());
+            }
+        }
+        labels
+    }
+
+    /// What this cost is called in a note (`steps`, `right-hand-side evaluations`, `seconds`).
+    pub fn name(&self) -> &'static str {
         match self {
-            Cost::Seconds => row.integration_seconds,
-            Cost::RhsEvals => row.rhs_evals as f64,
-            Cost::Steps => row.steps as f64,
+            Cost::Seconds => "integration seconds",
+            Cost::RhsEvals => "right-hand-side evaluations",
+            Cost::Steps => "steps",
         }
     }
 
@@ -95,7 +118,8 @@ pub fn work_precision(report: &BenchReport, cost: Cost) -> Chart {
     let (case, repeats) = (&report.case, report.repeats);
     let mut series: Vec<Series> = Vec::new();
     // (tolerance, error, cost) per series, drawn from loose to tight tolerance; a row without
-    // the cost (an external integrator that reports no evaluations) is not drawn.
+    // the cost (an external integrator that states no evaluations) is not drawn
+    // ([`Cost::left_out`]).
     let mut points: Vec<Vec<(f64, f64, f64)>> = Vec::new();
     for (row, l) in report.rows.iter().zip(&report.labels) {
         let k = match series.iter().position(|s| s.label == l.label) {
@@ -108,8 +132,7 @@ pub fn work_precision(report: &BenchReport, cost: Cost) -> Chart {
                 series.len() - 1
             }
         };
-        let c = cost.of(row);
-        if c > 0.0 {
+        if let Some(c) = cost.of(row) {
             points[k].push((row.tolerance, row.max_error, c));
         }
     }

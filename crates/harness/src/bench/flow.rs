@@ -4,22 +4,20 @@
 //! benchmark, one closed-form [`Reference`] per precision, the runs and the tolerance fits.
 //!
 //! A method is a built-in ([`BenchMethod::BuiltIn`]) or an integrator from outside made for
-//! each tolerance ([`OutsideMethod`]: an `--exec` process, a Python callable); the library
+//! each tolerance ([`OutsideMethod`](super::OutsideMethod): an `--exec` process, a Python callable); the library
 //! measures each the same way ([`measure_integrator`]).
 
 use std::collections::btree_map::{BTreeMap, Entry};
 
-use rsts_closed_form::events::EventSpec;
-use rsts_closed_form::Camera;
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances, MAX_MP_DIGITS};
 use serde::Serialize;
 
+use super::request::{BenchIntegrator, BenchMethod, BenchObserver, BenchRequest, EnsemblePlan};
 use super::{measure_against, measure_integrator, run_once, BenchRow, Reference};
 use crate::compare::{preflight, reference_bits, reference_bits_for};
 use crate::ensemble::{bands, draw_ensemble, Band, Ensemble};
 use crate::environment::Environment;
 use crate::events::events_of_run;
-use crate::integrator::Integrator;
 use crate::proportionality::{fit_tolerances, ToleranceFit};
 use crate::{Case, HarnessError, MAX_SAMPLES};
 
@@ -30,62 +28,6 @@ pub const MAX_BENCH_SAMPLES: usize = 1_000_000;
 pub const MAX_REPEATS: usize = 1000;
 /// Most steps of a whole benchmark (every method, tolerance and repeat), as estimated up front.
 pub const MAX_TOTAL_STEPS: f64 = 2e9;
-
-/// An integrator of a benchmark at one tolerance. Besides integrating, it may locate the
-/// requested events itself (an external process asked for them in its request).
-pub trait BenchIntegrator: Integrator {
-    /// Ask for these events (name, direction) in the runs to come; default: not able to.
-    fn ask_events(&mut self, events: &[(String, String)]) {
-        let _ = events;
-    }
-    /// The events (name, time) the last run located itself; `None`: the harness locates them
-    /// in its samples.
-    fn answered_events(&self) -> Option<Vec<(String, f64)>> {
-        None
-    }
-    /// Ask for K samples inside each step in the runs to come (`None`: stop asking); default:
-    /// not able to.
-    fn ask_dense(&mut self, k: Option<usize>) {
-        let _ = k;
-    }
-    /// The steps and dense samples of the last run, when it reported them.
-    fn answered_dense(&mut self) -> Option<rsts_dynamics::integrators::dense::StepSamples> {
-        None
-    }
-}
-
-/// A user's f64 [`Propagator`](rsts_dynamics::integrators::Propagator) in a benchmark.
-impl<P: rsts_dynamics::integrators::Propagator<f64>> BenchIntegrator for crate::Propagated<P> {}
-
-/// A method from outside the library (an `--exec` process, a Python callable), made for each
-/// tolerance of a benchmark.
-pub trait OutsideMethod {
-    /// How errors name it (`--exec`, the callable's name).
-    fn what(&self) -> String;
-    /// The integrator at `tolerances` (rtol = atol), its requests at `digits` decimal digits.
-    fn at(
-        &mut self,
-        tolerances: Tolerances,
-        digits: u32,
-    ) -> Result<Box<dyn BenchIntegrator>, HarnessError>;
-}
-
-/// A method of a benchmark.
-pub enum BenchMethod<'a> {
-    BuiltIn(MethodName),
-    Outside(&'a mut (dyn OutsideMethod + Send)),
-}
-
-/// What to measure: the case (its T and samples), the methods, the tolerances (rtol = atol),
-/// repeats per run, taylor-mp's digits (default [`default_mp_digits`]) and events to locate.
-pub struct BenchRequest<'a> {
-    pub case: Case,
-    pub methods: Vec<BenchMethod<'a>>,
-    pub tolerances: Vec<f64>,
-    pub repeats: usize,
-    pub digits: Option<u32>,
-    pub events: Vec<EventSpec>,
-}
 
 /// How a row is labelled and drawn (not serialised: the rows carry the method's name).
 #[derive(Clone, Debug, PartialEq)]
@@ -133,29 +75,6 @@ impl BenchReport {
     }
 }
 
-/// What a benchmark tells while it runs (notes, progress) and whether it should stop.
-pub trait BenchObserver {
-    /// A note for the user (a skipped tolerance).
-    fn note(&mut self, text: &str) {
-        let _ = text;
-    }
-    /// The runs are about to start: `total` of them.
-    fn start(&mut self, total: usize) {
-        let _ = total;
-    }
-    /// A run starts (`label at tolerance`); an error stops the benchmark with it.
-    fn running(&mut self, what: &str) -> Result<(), HarnessError> {
-        let _ = what;
-        Ok(())
-    }
-    /// A run is done.
-    fn done(&mut self) {}
-}
-
-/// Observes nothing.
-pub struct Quiet;
-impl BenchObserver for Quiet {}
-
 /// Default digits of taylor-mp for the smallest tolerance `tol`.
 pub fn default_mp_digits(tol: f64) -> u32 {
     let d = (-tol.log10()).ceil().max(0.0) as u32 + 10;
@@ -164,15 +83,6 @@ pub fn default_mp_digits(tol: f64) -> u32 {
 
 fn setting(names: &[&str], message: String) -> HarnessError {
     HarnessError::Setting(names.iter().map(|n| n.to_string()).collect(), message)
-}
-
-/// An ensemble asked of a benchmark: `n` motions drawn with `seed` from `cameras` (all nine
-/// when empty), see [`crate::ensemble`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct EnsemblePlan {
-    pub n: usize,
-    pub seed: u64,
-    pub cameras: Vec<Camera>,
 }
 
 /// A planned run.
@@ -572,6 +482,7 @@ pub fn label_of(method: MethodName, mp_digits: u32) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bench::OutsideMethod;
     use crate::Propagated;
     use rsts_dynamics::integrators::Rk4;
 
@@ -640,8 +551,8 @@ mod tests {
         assert!(report.labels[2].external && !report.labels[1].external);
         let rk4: Vec<f64> = report.rows[2..].iter().map(|r| r.max_error).collect();
         assert!(rk4[1] < 1e-3 * rk4[0], "{rk4:?}");
-        assert_eq!(report.rows[2].steps, 50, "step 0.1 over T = 5");
-        assert_eq!(report.rows[2].rhs_evals, 200, "4 evaluations a step");
+        assert_eq!(report.rows[2].steps, Some(50), "step 0.1 over T = 5");
+        assert_eq!(report.rows[2].rhs_evals, Some(200), "4 evaluations a step");
         assert_eq!(report.fits.len(), 2);
         assert_eq!(report.taylor_mp_digits, None);
     }

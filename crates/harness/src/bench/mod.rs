@@ -11,11 +11,14 @@
 mod band_diagram;
 pub mod diagrams;
 mod flow;
+mod request;
 
 pub use flow::{
-    bench, bench_ensemble, bench_with_dense, default_mp_digits, label_of, BenchIntegrator,
-    BenchMethod, BenchObserver, BenchReport, BenchRequest, EnsemblePlan, OutsideMethod, Quiet,
-    RowLabel, MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
+    bench, bench_ensemble, bench_with_dense, default_mp_digits, label_of, BenchReport, RowLabel,
+    MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
+};
+pub use request::{
+    BenchIntegrator, BenchMethod, BenchObserver, BenchRequest, EnsemblePlan, OutsideMethod, Quiet,
 };
 
 use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem, Tolerances};
@@ -54,8 +57,10 @@ pub struct BenchRow {
     pub time_median: f64,
     #[serde(default)]
     pub time_max: f64,
-    pub steps: u64,
-    pub rhs_evals: u64,
+    /// What the first run cost (`null` when not known: an external integrator whose answer does
+    /// not state it, a Python callable that cannot count its steps).
+    pub steps: Option<u64>,
+    pub rhs_evals: Option<u64>,
     /// Median over the repeats of the wall time measured around an external integrator
     /// (process start-up included); absent for in-process integrators.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -228,9 +233,20 @@ pub fn measure_integrator(
         initial: reference.states[0].clone(),
     };
     let tolerances = integrator.tolerances();
+    // What the first run stated of its cost (an external integrator's answer may leave out
+    // its steps or evaluations: not known, not 0).
+    let mut stated = None;
     let mut row = summarize(reference, repeats, tolerances, || {
-        integrator.integrate(&problem, &reference.times)
+        let traj = integrator.integrate(&problem, &reference.times);
+        if stated.is_none() {
+            stated = Some(integrator.stated_stats());
+        }
+        traj
     })?;
+    if let Some(Some(s)) = stated {
+        row.steps = row.steps.filter(|_| s.steps.is_some());
+        row.rhs_evals = row.rhs_evals.filter(|_| s.rhs_evals.is_some());
+    }
     row.method = integrator.name();
     row.tolerance = integrator
         .tolerances()
@@ -279,8 +295,8 @@ fn summarize(
         time_min: seconds.iter().copied().fold(f64::INFINITY, f64::min),
         time_median: median(&seconds),
         time_max: seconds.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        steps: traj.stats.accepted_steps,
-        rhs_evals: traj.stats.rhs_evals,
+        steps: Some(traj.stats.accepted_steps),
+        rhs_evals: Some(traj.stats.rhs_evals),
         wall_seconds: (!walls.is_empty()).then(|| median(&walls)),
         events: None,
         dense: None,
@@ -356,8 +372,8 @@ mod tests {
             "reported {:e}, independent {worst:e}",
             row.max_error
         );
-        assert_eq!(row.steps, sol.stats.accepted_steps);
-        assert_eq!(row.rhs_evals, sol.stats.rhs_evals);
+        assert_eq!(row.steps, Some(sol.stats.accepted_steps));
+        assert_eq!(row.rhs_evals, Some(sol.stats.rhs_evals));
         assert_eq!(row.method, "dop853");
         assert_eq!(row.tolerance, 1e-9);
     }
@@ -441,7 +457,7 @@ mod tests {
         assert_eq!(row.wall_seconds, Some(4.0));
         assert_eq!(
             (row.steps, row.rhs_evals),
-            (10, 100),
+            (Some(10), Some(100)),
             "stats of the first run"
         );
         assert!((row.max_error - 1e-30).abs() < 1e-40, "{:e}", row.max_error);

@@ -27,13 +27,15 @@
 //! `generic.rs` (the stepper written once over any [`Real`]: the path of every scalar without a
 //! dedicated kernel), `mp.rs` (the limb-level coefficient kernel of taylor-mp, which the
 //! generic stepper calls for MPFR scalars), `fast.rs` (the stepper of taylor-f64 and taylor-dd
-//! on the lane kernel), `layout.rs`, `series.rs`, `expansion.rs` (the lane layout generated
+//! on the lane kernel), `lanes.rs` (those two methods on it: code path, extended orders, the
+//! state in f64 parts, the solution), `layout.rs`, `series.rs`, `expansion.rs` (the lane layout generated
 //! from the table, the lane Cauchy sums, f64 expansion arithmetic) and `simd/` (the code paths
 //! picked at run time: AVX-512, AVX2+FMA, portable; `RSTS_SIMD`).
 
 mod expansion;
 mod fast;
 mod generic;
+mod lanes;
 mod layout;
 mod mp;
 mod series;
@@ -41,7 +43,7 @@ pub mod simd;
 #[cfg(test)]
 mod tests;
 
-pub use fast::LANE_EXTRA_BITS;
+pub use lanes::LANE_EXTRA_BITS;
 pub use mp::{MpfrKernel, MpfrKernelChoice, MAX_DEFAULT_LIMBS as MPFR_MAX_DEFAULT_LIMBS};
 pub use simd::{SimdPath, SIMD_ENV};
 

@@ -1,0 +1,210 @@
+//! The answer of an [`Exec`]: JSON (samples, `name`, `stats`, `digits`, `version`, `events`,
+//! `dense`) or the CSV of `rsts check`, checked against the request's times.
+
+use rug::Float;
+use serde_json::Value;
+
+use rsts_dynamics::integrators::Stats;
+use rsts_harness::HarnessError;
+
+use super::Exec;
+use crate::files::{parse_csv, parse_json};
+
+impl Exec {
+    /// Parse an answer for `times` into states at `bits` bits.
+    pub fn parse_answer(
+        &mut self,
+        stdout: &[u8],
+        stderr: &[u8],
+        times: &[f64],
+        bits: u32,
+    ) -> Result<(Vec<rsts_dynamics::State<Float>>, Stats), HarnessError> {
+        let text = std::str::from_utf8(stdout)
+            .map_err(|_| self.fail("its answer is not UTF-8 text", stderr))?;
+        let garbage = |e: String| {
+            let start: String = text.trim().chars().take(200).collect();
+            self.fail(
+                format_args!(
+                    "its answer is not an rsts-integrator/1 answer ({e}); it begins with: {start:?}"
+                ),
+                stderr,
+            )
+        };
+        if text.trim().is_empty() {
+            return Err(self.fail("it wrote no answer on stdout", stderr));
+        }
+        let mut answered = None;
+        let mut digits = None;
+        let mut version = None;
+        let mut answered_events = None;
+        let mut answered_dense = None;
+        let (raw, stats) = if text.trim_start().starts_with('{') {
+            let doc: Value =
+                serde_json::from_str(text).map_err(|e| garbage(format!("invalid JSON: {e}")))?;
+            if let Some(name) = doc.get("name") {
+                let name = name
+                    .as_str()
+                    .filter(|s| !s.trim().is_empty())
+                    .ok_or_else(|| garbage("\"name\" must be a non-empty string".into()))?;
+                answered = Some(name.to_string());
+            }
+            let stats = parse_stats(doc.get("stats")).map_err(garbage)?;
+            if let Some(d) = doc.get("digits").filter(|d| !d.is_null()) {
+                let d = d
+                    .as_u64()
+                    .filter(|d| (1..=10_000).contains(d))
+                    .ok_or_else(|| {
+                        garbage("\"digits\" must be a whole number from 1 to 10000".into())
+                    })?;
+                digits = Some(d as u32);
+            }
+            if let Some(k) = self.dense {
+                answered_dense =
+                    Some(crate::dense::parse_dense(&doc, k).map_err(|e| self.fail(e, stderr))?);
+            }
+            if let Some(v) = doc.get("version").filter(|v| !v.is_null()) {
+                version = Some(check_version(v).map_err(garbage)?);
+            }
+            answered_events = match doc.get("events") {
+                None => None,
+                Some(v) => Some(parse_events(v).map_err(garbage)?),
+            };
+            (parse_json(&doc).map_err(garbage)?, stats)
+        } else {
+            (parse_csv(text).map_err(garbage)?, (None, None, None))
+        };
+        if answered.is_some() {
+            self.answered_name = answered;
+        }
+        if digits.is_some() {
+            self.answered_digits = digits;
+        }
+        if version.is_some() {
+            self.answered_version = version;
+        }
+        self.answered_events = answered_events;
+        self.answered_dense = answered_dense;
+        if let (Some(k), None) = (self.dense, &self.answered_dense) {
+            return Err(self.fail(
+                format_args!("--dense {k} needs a JSON answer with \"stats.step_times\" and \"dense\" (docs/own-integrator.md); it answered CSV"),
+                stderr,
+            ));
+        }
+        if raw.len() != times.len() {
+            return Err(self.fail(
+                format_args!(
+                    "it answered {} samples for {} requested times",
+                    raw.len(),
+                    times.len()
+                ),
+                stderr,
+            ));
+        }
+        for (k, (t, want)) in raw.times.iter().zip(times).enumerate() {
+            let got = t.to_f64();
+            if (got - want).abs() > 1e-12 * want.abs().max(1.0) {
+                return Err(self.fail(
+                    format_args!("sample {k} is at t = {got}, requested t = {want}"),
+                    stderr,
+                ));
+            }
+        }
+        let samples = raw.to_samples(bits);
+        let (steps, rhs_evals, seconds) = stats;
+        self.answered_stats = rsts_harness::StatedStats {
+            steps,
+            rejected_steps: None,
+            rhs_evals,
+            integration_seconds: seconds,
+        };
+        Ok((
+            samples.states,
+            Stats {
+                accepted_steps: steps.unwrap_or(0),
+                rejected_steps: 0,
+                rhs_evals: rhs_evals.unwrap_or(0),
+                integration_seconds: seconds.unwrap_or(f64::NAN),
+            },
+        ))
+    }
+}
+
+type AnswerStats = (Option<u64>, Option<u64>, Option<f64>);
+
+/// Longest `"version"` an answer may carry (characters).
+pub const MAX_VERSION_CHARS: usize = 200;
+
+/// `version` of an answer: a non-empty string of at most [`MAX_VERSION_CHARS`] characters,
+/// without control characters (it is printed in tables).
+fn check_version(v: &Value) -> Result<String, String> {
+    let s = v
+        .as_str()
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .ok_or("\"version\" must be a non-empty string")?;
+    if s.chars().count() > MAX_VERSION_CHARS {
+        return Err(format!(
+            "\"version\" has {} characters, at most {MAX_VERSION_CHARS} are taken",
+            s.chars().count()
+        ));
+    }
+    if s.chars().any(char::is_control) {
+        return Err("\"version\" must not hold control characters".into());
+    }
+    Ok(s.to_string())
+}
+
+/// `events` of an answer: `[{"name", "t"}]`, t a number or a decimal string.
+fn parse_events(v: &Value) -> Result<Vec<(String, f64)>, String> {
+    let list = v.as_array().ok_or("\"events\" must be an array")?;
+    list.iter()
+        .enumerate()
+        .map(|(i, e)| {
+            let name = e.get("name").and_then(Value::as_str);
+            let t = match e.get("t") {
+                Some(Value::Number(n)) => n.as_f64(),
+                Some(Value::String(s)) => s.trim().parse().ok(),
+                _ => None,
+            };
+            match (name, t) {
+                (Some(n), Some(t)) if t.is_finite() => Ok((n.to_string(), t)),
+                _ => Err(format!(
+                    "events[{i}] needs a \"name\" string and a finite \"t\""
+                )),
+            }
+        })
+        .collect()
+}
+
+/// `stats` of an answer: every field optional, numbers or decimal strings (read as a JSON
+/// trajectory file's, [`crate::files::parse_stats`]).
+fn parse_stats(v: Option<&Value>) -> Result<AnswerStats, String> {
+    let s = crate::files::parse_stats(v)?;
+    Ok((s.steps, s.rhs_evals, s.integration_seconds))
+}
+
+/// The most bytes an answer of `samples` samples at `digits` digits may take: 1 MiB, plus per
+/// sample ten values of up to `digits` + 40 characters and 400 of keys and layout (pretty JSON),
+/// doubled. Far more than any honest answer; a bound on what an adapter can make us hold.
+pub fn max_answer(samples: usize, digits: u32) -> usize {
+    let per_sample = 10 * (digits as usize + 40) + 400;
+    (1 << 20) + 2 * samples.saturating_mul(per_sample)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+    #[test]
+    fn stats_are_optional_numbers_or_strings() {
+        let s = parse_stats(Some(
+            &json!({"steps": 10, "rhs_evals": "40", "integration_seconds": 0.5}),
+        ))
+        .unwrap();
+        assert_eq!(s, (Some(10), Some(40), Some(0.5)));
+        assert_eq!(parse_stats(None).unwrap(), (None, None, None));
+        assert!(parse_stats(Some(&json!({"steps": -1}))).is_err());
+        assert!(parse_stats(Some(&json!({"steps": 1.5}))).is_err());
+        assert!(parse_stats(Some(&json!([1]))).is_err());
+    }
+}
