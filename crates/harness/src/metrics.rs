@@ -174,14 +174,6 @@ impl Report {
             self.rhs_evals = None;
         }
     }
-
-    /// Forget the counts of steps and evaluations (an integrator that cannot see them, e.g. a
-    /// Python callable: its time is measured, its steps are not known).
-    pub fn forget_counts(&mut self) {
-        self.steps = None;
-        self.rejected_steps = None;
-        self.rhs_evals = None;
-    }
 }
 
 /// The cost a trajectory computed elsewhere states about itself: the `stats` block of a JSON
