@@ -281,6 +281,22 @@ impl Analysis {
         states: &[State<Float>],
         observer: &mut dyn Observer,
     ) -> Result<Option<SampleErrors>, HarnessError> {
+        self.in_batches(times, states, observer, Self::evaluate, |t, s| {
+            (t.to_f64(), Some((t, s)))
+        })
+    }
+
+    /// The batch loop of [`Analysis::sample_all`] and [`Analysis::sample_all_f64`]: each batch
+    /// evaluated in parallel (`evaluate(self, t, state, snapshots)`), then recorded in time
+    /// order (`place`: the sample's time in f64 and, for MPFR samples, the sample itself).
+    fn in_batches<T: Sync, S: Sync>(
+        &mut self,
+        times: &[T],
+        states: &[S],
+        observer: &mut dyn Observer,
+        evaluate: impl Fn(&Self, &T, &S, bool) -> Evaluated + Sync,
+        place: impl for<'a> Fn(&'a T, &'a S) -> (f64, Option<(&'a Float, &'a State<Float>)>),
+    ) -> Result<Option<SampleErrors>, HarnessError> {
         let mut first = None;
         for (tc, sc) in times.chunks(BATCH).zip(states.chunks(BATCH)) {
             if observer.should_stop() {
@@ -288,11 +304,11 @@ impl Analysis {
                 break;
             }
             let me = &*self;
-            let states = observer.wants_states();
+            let wanted = observer.wants_states();
             let evaluated: Vec<Evaluated> = tc
                 .par_iter()
                 .zip(sc)
-                .map(|(t, s)| me.evaluate(t, s, states))
+                .map(|(t, s)| evaluate(me, t, s, wanted))
                 .collect();
             for ((t, s), ev) in tc.iter().zip(sc).zip(evaluated) {
                 if observer.should_stop() {
@@ -300,7 +316,8 @@ impl Analysis {
                     self.update_digits();
                     return Ok(first);
                 }
-                let e = self.record(t.to_f64(), Some((t, s)), ev, observer)?;
+                let (time, sample) = place(t, s);
+                let e = self.record(time, sample, ev, observer)?;
                 first.get_or_insert(e);
             }
         }

@@ -5,14 +5,13 @@
 //! f64 data is still the data's"). The report is that of [`Analysis::sample_all`] of the same
 //! samples widened to MPFR, but for a value within 2⁻¹⁰⁰ of an f64 rounding boundary.
 
-use rayon::prelude::*;
 use rug::Float;
 
 use rsts_dynamics::scalar::DoubleDouble;
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::State;
 
-use super::{Analysis, DdMeasure, Evaluated, Observer, BATCH};
+use super::{Analysis, DdMeasure, Evaluated, Observer};
 use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
 use crate::rounded_reference::DdReference;
 use crate::HarnessError;
@@ -44,34 +43,18 @@ impl Analysis {
                 .collect();
             return self.sample_all(&t, &s, observer);
         }
-        let mut first = None;
-        for (tc, sc) in times.chunks(BATCH).zip(states.chunks(BATCH)) {
-            if observer.should_stop() {
-                self.mark_incomplete();
-                break;
-            }
-            let me = &*self;
-            let states = observer.wants_states();
-            let (Some(dd), Some(m)) = (me.dd.as_ref(), me.dd_measure.as_ref()) else {
-                unreachable!("checked above")
-            };
-            let evaluated: Vec<Evaluated> = tc
-                .par_iter()
-                .zip(sc)
-                .map(|(t, x)| me.evaluate_f64(dd, m, *t, x, states))
-                .collect();
-            for (t, ev) in tc.iter().zip(evaluated) {
-                if observer.should_stop() {
-                    self.mark_incomplete();
-                    self.update_digits();
-                    return Ok(first);
-                }
-                let e = self.record(*t, None, ev, observer)?;
-                first.get_or_insert(e);
-            }
-        }
-        self.update_digits();
-        Ok(first)
+        self.in_batches(
+            times,
+            states,
+            observer,
+            |me, t, x, wanted| {
+                let (Some(dd), Some(m)) = (me.dd.as_ref(), me.dd_measure.as_ref()) else {
+                    unreachable!("checked above")
+                };
+                me.evaluate_f64(dd, m, *t, x, wanted)
+            },
+            |t, _| (*t, None),
+        )
     }
 
     /// What an f64 sample's errors are, in double-double, apart from the samples before it.
