@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # CPU cost per sample of `rsts check` of f64 data (issue 21), this build against an older binary,
-# alternated in one run: the reference rows of the README's default case (CSV and npy) and a
-# dopri5 trajectory of camera V's third torus (rtol = atol = 1e-9, CSV), 10⁵ rows each, --jobs 1.
+# alternated in one run: the reference rows of the README's default case (CSV and npy), a dopri5
+# trajectory of the default case (camera I+, its error stays small: every sample has a nearest
+# point on N) and one of camera V's third torus (m < 0, its error saturates), rtol = atol = 1e-9,
+# CSV, 10⁵ rows each, --jobs 1.
 # Prints a markdown table (user CPU µs per sample, the best of the rounds; whether the JSON of
 # the two binaries is identical) with the load average; files under out/bench-check-f64/.
 # Usage: [BEFORE=path/to/old/rsts] bash scripts/bench_check_f64.sh [ROUNDS]
@@ -22,7 +24,10 @@ $A reference --m 0.3 --h -0.375 --t-end 1000 --samples $n --format npy -o "$D/re
 $A integrate --omega=-1.0788400339538464,-0.3702277283006931,0 \
     --alpha=-0.5266712206715436,-0.8500690709091504,0 --beta=-0.8500690709091504,0.5266712206715436,0 \
     --t-end 1000 --samples $n --method dopri5 --rtol 1e-9 --atol 1e-9 --format csv > "$D/dopri5.csv"
-declare -A args=([ref.csv]="--m 0.3 --h -0.375" [ref.npy]="--m 0.3 --h -0.375" [dopri5.csv]="")
+$A integrate --omega=-0.17131207221604822,0,1.2580177644422093 \
+    --alpha=0.6956521739130435,0,-0.7183787670373176 --beta=0,1,0 \
+    --t-end 1000 --samples $n --method dopri5 --rtol 1e-9 --atol 1e-9 --format csv > "$D/dopri5-default.csv"
+declare -A args=([ref.csv]="--m 0.3 --h -0.375" [ref.npy]="--m 0.3 --h -0.375" [dopri5-default.csv]="" [dopri5.csv]="")
 
 # user BINARY FILE TAG: user CPU seconds of one check (its JSON kept as FILE.TAG.json).
 user() {
@@ -36,7 +41,7 @@ echo "load average before: $(cut -d' ' -f1-3 /proc/loadavg); $(date -u +%Y-%m-%d
 echo
 echo "| data (10⁵ rows) | before µs/sample (user) | after µs/sample (user) | same JSON |"
 echo "|---|---|---|---|"
-for f in ref.npy ref.csv dopri5.csv; do
+for f in ref.npy ref.csv dopri5-default.csv dopri5.csv; do
     best_a=inf
     best_b=inf
     for ((r = 0; r < rounds; r++)); do
