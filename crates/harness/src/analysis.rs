@@ -26,6 +26,7 @@ use crate::rounded_reference::DdReference;
 use crate::{HarnessError, SampleRecord};
 use rsts_dynamics::scalar::DoubleDouble;
 
+mod f64_errors;
 mod f64_samples;
 
 /// Receives the samples of an analysis as they are computed.

@@ -73,11 +73,22 @@ pub fn sample_errors_dd(exact: &State<DoubleDouble>, x: &[f64; 9], ratio: f64) -
     let y = exact.to_array();
     let d: [DoubleDouble; 9] =
         std::array::from_fn(|k| (DoubleDouble::from_f64_exact(x[k]) - y[k]).abs());
+    of_differences(&d, &y, ratio)
+}
+
+/// [`sample_errors_dd`] from the differences d = |x − y| (in double-double) and the exact
+/// state y.
+#[inline(always)]
+pub(crate) fn of_differences(
+    d: &[DoubleDouble; 9],
+    y: &[DoubleDouble; 9],
+    ratio: f64,
+) -> (f64, f64) {
     let size = y.map(|y| y.abs());
     let scale = size.map(|s| s.add_f64(ratio));
     // Relative errors of 0 size have no scale: left out.
-    let relative = largest_quotient(&d, &size, |k| size[k].to_f64() != 0.0);
-    let mixed = largest_quotient(&d, &scale, |_| true);
+    let relative = largest_quotient(d, &size, |k| size[k].to_f64() != 0.0);
+    let mixed = largest_quotient(d, &scale, |_| true);
     (relative, mixed)
 }
 

@@ -11,6 +11,7 @@ use rsts_dynamics::scalar::DoubleDouble;
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::State;
 
+use super::f64_errors::f64_sample_errors;
 use super::{Analysis, DdMeasure, Evaluated, Observer};
 use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
 use crate::rounded_reference::DdReference;
@@ -116,7 +117,8 @@ unsafe fn measure_fma(
     measure_portable(m, exact, x, ratio, snapshots)
 }
 
-/// [`sample_errors`] and [`crate::digits::sample_errors_dd`] of one f64 sample.
+/// [`sample_errors`] and [`crate::digits::sample_errors_dd`] of one f64 sample: the one kernel
+/// of [`f64_sample_errors`] (the snapshots, when asked, from the general code).
 #[inline(always)]
 fn measure_portable(
     m: &DdMeasure,
@@ -125,15 +127,12 @@ fn measure_portable(
     ratio: f64,
     snapshots: bool,
 ) -> Measured {
-    let state = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
-    let (errors, snapshots) = sample_errors(
-        &m.fields,
-        &m.n,
-        &m.initial_integrals,
-        exact,
-        &state,
-        snapshots,
-    );
-    let digits = crate::digits::sample_errors_dd(exact, x, ratio);
+    let (errors, d) = f64_sample_errors(&m.fields, &m.n, &m.initial_integrals, exact, x);
+    let digits = crate::digits::of_differences(&d, &exact.to_array(), ratio);
+    let snapshots = snapshots.then(|| {
+        let state = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
+        let (_, s) = sample_errors(&m.fields, &m.n, &m.initial_integrals, exact, &state, true);
+        s.expect("asked for")
+    });
     (errors, snapshots, digits)
 }
