@@ -107,7 +107,7 @@ fn measure(
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "fma")]
-unsafe fn measure_fma(
+pub(super) unsafe fn measure_fma(
     m: &DdMeasure,
     exact: &State<DoubleDouble>,
     x: &[f64; DIM],
@@ -120,7 +120,7 @@ unsafe fn measure_fma(
 /// [`sample_errors`] and [`crate::digits::sample_errors_dd`] of one f64 sample: the one kernel
 /// of [`f64_sample_errors`] (the snapshots, when asked, from the general code).
 #[inline(always)]
-fn measure_portable(
+pub(super) fn measure_portable(
     m: &DdMeasure,
     exact: &State<DoubleDouble>,
     x: &[f64; DIM],
