@@ -7,12 +7,14 @@
 //! operation, where a value of the data is an f64: a product of two f64 is formed exactly
 //! (`two_prod`, what the general double-double product gives when both low parts are 0) and a
 //! double-double times an f64 is [`DoubleDouble::mul_f64`] (the general product with a low part
-//! 0), so every double-double value is the one of the general code, bit for bit. Only the
-//! orientation error's arctangent differs: for the small angles of a sample (tan θ < 2⁻²⁷) it
-//! is the series θ = z − z³/3 of z = sin θ / cos θ in double-double instead of a Newton step on
-//! the double-double sine, both within a few units of 2⁻¹⁰⁶ of θ, so the f64 they round to is
-//! the same but for a value within ~2⁻¹⁰⁰ of an f64 rounding boundary (docs/closed-form.md).
+//! 0), so every double-double value is the one of the general code, bit for bit. The
+//! orientation error alone is computed otherwise, and more accurately: from the differences
+//! Q − Q̃ (sums of products of the angle's size, error ~2⁻¹⁰⁶ of the angle, where the general
+//! code's entries of R ≈ I carry 2⁻¹⁰⁶ of 1, a unit of the 16th digit of an angle ~1e-16),
+//! and for the small angles of a sample (tan θ < 2⁻²⁷) the arctangent by its series
+//! (docs/closed-form.md).
 
+use rsts_dynamics::scalar::double_double::{quick_two_sum, two_prod, two_sum};
 use rsts_dynamics::scalar::DoubleDouble;
 use rsts_dynamics::{Fields, Real, State};
 
@@ -31,7 +33,8 @@ pub(crate) fn f64_sample_errors(
     x: &[f64; 9],
 ) -> (SampleErrors, [Dd; 9]) {
     let y = exact.to_array();
-    let d: [Dd; 9] = std::array::from_fn(|k| (Dd::from_f64_exact(x[k]) - y[k]).abs());
+    let delta: [Dd; 9] = std::array::from_fn(|k| Dd::from_f64_exact(x[k]) - y[k]);
+    let d = delta.map(|v| v.abs());
     let state_error = d.iter().fold(Dd::ZERO, |a, b| a.max_of(*b));
     let [h, k, g] = integrals_f64(fields, x);
     let two = Dd::from_f64_exact(2.0);
@@ -39,7 +42,7 @@ pub(crate) fn f64_sample_errors(
     let off_g = (two * g - n.p2 * h - n.r4m).abs();
     let errors = SampleErrors {
         state_error: state_error.to_f64(),
-        orientation_error: orientation_error(x, exact).to_f64(),
+        orientation_error: orientation_error(x, exact, &delta).to_f64(),
         drift_h: (h - initial_integrals[0]).abs().to_f64(),
         drift_k: (k - initial_integrals[1]).abs().to_f64(),
         drift_g: (g - initial_integrals[2]).abs().to_f64(),
@@ -59,16 +62,6 @@ fn prod(u: f64, v: f64) -> Dd {
     Dd::prod_f64(u, v)
 }
 
-/// u×v of two f64 vectors, each component from two exact products.
-#[inline(always)]
-fn cross_f64(u: &[f64], v: &[f64]) -> [Dd; 3] {
-    [
-        prod(u[1], v[2]) - prod(u[2], v[1]),
-        prod(u[2], v[0]) - prod(u[0], v[2]),
-        prod(u[0], v[1]) - prod(u[1], v[0]),
-    ]
-}
-
 /// u×v in double-double ([`rsts_dynamics::vec3::cross`]).
 #[inline(always)]
 fn cross_dd(u: &[Dd; 3], v: &[Dd; 3]) -> [Dd; 3] {
@@ -83,12 +76,6 @@ fn cross_dd(u: &[Dd; 3], v: &[Dd; 3]) -> [Dd; 3] {
 #[inline(always)]
 fn dot_f64_dd(u: &[f64], v: &[Dd; 3]) -> Dd {
     v[0].mul_f64(u[0]) + v[1].mul_f64(u[1]) + v[2].mul_f64(u[2])
-}
-
-/// u·v in double-double.
-#[inline(always)]
-fn dot_dd(u: &[Dd; 3], v: &[Dd; 3]) -> Dd {
-    u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 }
 
 /// u·v of two f64 vectors: three exact products summed in double-double.
@@ -141,25 +128,85 @@ fn constraint_error(x: &[f64; 9]) -> Dd {
     r[0].abs().max_of(r[1].abs()).max_of(r[2].abs())
 }
 
-/// The rotation angle of Q Q̃ᵀ, Q of the f64 state `x` and Q̃ of the exact state
-/// ([`rsts_dynamics::vec3::rotation_angle`]).
+/// A sum of products formed exactly in their high parts: Σ uᵢvᵢ of double-doubles (or f64)
+/// with error ~2⁻¹⁰⁶ Σ|uᵢvᵢ| (each uᵢ.hi·vᵢ.hi exact by `two_prod`, the sum of the high parts
+/// error-free by `two_sum`, the rest — low parts and cross terms, each below 2⁻⁵³ of its
+/// product — summed in f64), at about a third of the cost of double-double products and sums.
+#[derive(Clone, Copy)]
+struct ProductSum {
+    hi: f64,
+    lo: f64,
+}
+
+impl ProductSum {
+    const ZERO: Self = Self { hi: 0.0, lo: 0.0 };
+
+    #[inline(always)]
+    fn add(mut self, u: Dd, v: Dd) -> Self {
+        let (p, e) = two_prod(u.hi, v.hi);
+        let (s, f) = two_sum(self.hi, p);
+        self.hi = s;
+        self.lo += f + u.hi.mul_add(v.lo, u.lo.mul_add(v.hi, e));
+        self
+    }
+
+    #[inline(always)]
+    fn sub(self, u: Dd, v: Dd) -> Self {
+        self.add(-u, v)
+    }
+
+    #[inline(always)]
+    fn value(self) -> Dd {
+        let (hi, lo) = quick_two_sum(self.hi, self.lo);
+        Dd { hi, lo }
+    }
+}
+
+/// The rotation angle of R = Q Q̃ᵀ, Q of the f64 state `x` and Q̃ of the exact state, from the
+/// differences Δ = Q − Q̃ (`delta`: Δα, Δβ as measured for the state error): R − I = ΔQ̃ᵀ up to
+/// Q̃Q̃ᵀ − I (~2⁻¹⁰⁶, symmetric: none in the skew part), so the skew part of R and tr R − 3 are
+/// sums of products of the size of the angle, formed with error ~2⁻¹⁰⁶ of it
+/// ([`rsts_dynamics::vec3::rotation_angle`] forms the entries of R ≈ I, error 2⁻¹⁰⁶ of 1).
 #[inline(always)]
-fn orientation_error(x: &[f64; 9], exact: &State<Dd>) -> Dd {
-    let (alpha, beta) = (&x[3..6], &x[6..9]);
-    let gamma = cross_f64(alpha, beta);
-    let ex = [exact.alpha, exact.beta, cross_dd(&exact.alpha, &exact.beta)];
-    // R = Q Q̃ᵀ: rows α, β of Q are f64, its row γ double-double.
-    let r: [[Dd; 3]; 3] = std::array::from_fn(|i| {
-        std::array::from_fn(|j| match i {
-            0 => dot_f64_dd(alpha, &ex[j]),
-            1 => dot_f64_dd(beta, &ex[j]),
-            _ => dot_dd(&gamma, &ex[j]),
-        })
+fn orientation_error(x: &[f64; 9], exact: &State<Dd>, delta: &[Dd; 9]) -> Dd {
+    let f = Dd::from_f64_exact;
+    let (a, b) = (&exact.alpha, &exact.beta);
+    let (da, db) = (&delta[3..6], &delta[6..9]);
+    let beta = [f(x[6]), f(x[7]), f(x[8])];
+    let cyc = |k: usize| ((k + 1) % 3, (k + 2) % 3);
+    // γ̃ = α̃×β̃ and Δγ = α×β − α̃×β̃ = Δα×β + α̃×Δβ.
+    let c: [Dd; 3] = std::array::from_fn(|k| {
+        let (i, j) = cyc(k);
+        ProductSum::ZERO.add(a[i], b[j]).sub(a[j], b[i]).value()
     });
-    let s = [r[2][1] - r[1][2], r[0][2] - r[2][0], r[1][0] - r[0][1]];
-    let two = Dd::from_f64_exact(2.0);
-    let sin = dot_dd(&s, &s).sqrt() / two;
-    let cos = (r[0][0] + r[1][1] + r[2][2] - Dd::ONE) / two;
+    let dc: [Dd; 3] = std::array::from_fn(|k| {
+        let (i, j) = cyc(k);
+        let sum = ProductSum::ZERO.add(da[i], beta[j]).sub(da[j], beta[i]);
+        sum.add(a[i], db[j]).sub(a[j], db[i]).value()
+    });
+    let q = [a, b, &c];
+    let dq = [da, db, &dc[..]];
+    // The skew part s_k = R_ji − R_ij (k, i, j cyclic), R_ij − δ_ij = Δq_i·q̃_j.
+    let s: [Dd; 3] = std::array::from_fn(|k| {
+        let (i, j) = cyc(k);
+        (0..3)
+            .fold(ProductSum::ZERO, |sum, l| {
+                sum.add(dq[j][l], q[i][l]).sub(dq[i][l], q[j][l])
+            })
+            .value()
+    });
+    let trace = (0..9)
+        .fold(ProductSum::ZERO, |sum, n| {
+            sum.add(dq[n / 3][n % 3], q[n / 3][n % 3])
+        })
+        .value();
+    let norm2 = (0..3).fold(ProductSum::ZERO, |sum, k| sum.add(s[k], s[k]));
+    let half = |v: Dd| Dd {
+        hi: v.hi * 0.5,
+        lo: v.lo * 0.5,
+    };
+    let sin = half(norm2.value().sqrt());
+    let cos = Dd::ONE + half(trace);
     small_angle(sin, cos)
 }
 
