@@ -11,7 +11,7 @@
 //! orientation error alone is computed otherwise, and more accurately: from the differences
 //! Q − Q̃ (sums of products of the angle's size, error ~2⁻¹⁰⁶ of the angle, where the general
 //! code's entries of R ≈ I carry 2⁻¹⁰⁶ of 1, a unit of the 16th digit of an angle ~1e-16),
-//! and for the small angles of a sample (tan θ < 2⁻²⁷) the arctangent by its series
+//! and for the small angles of a sample (tan θ < 2⁻¹⁴) the arctangent by its series
 //! (docs/closed-form.md).
 
 use rsts_dynamics::scalar::double_double::{quick_two_sum, two_prod, two_sum};
@@ -210,15 +210,21 @@ fn orientation_error(x: &[f64; 9], exact: &State<Dd>, delta: &[Dd; 9]) -> Dd {
     small_angle(sin, cos)
 }
 
-/// atan2(sin, cos) for sin ≥ 0: for tan θ = z < 2⁻²⁷ the series z − z³/3 (the next term,
-/// z⁵/5, is below 2⁻¹⁰⁸ z; z³/3 is below 2⁻⁵⁵ z and taken in f64 from z.hi), otherwise the
-/// double-double arctangent.
+/// atan2(sin, cos) for sin ≥ 0: for tan θ = z < 2⁻¹⁴ the series z − z³/3 + z⁵/5 − z⁷/7 + z⁹/9
+/// (z³/3 in double-double; the rest, below 2⁻⁵⁶ z, in f64 from z.hi; the next term is below
+/// 2⁻¹⁴⁰ z), otherwise the double-double arctangent.
 #[inline(always)]
 pub(crate) fn small_angle(sin: Dd, cos: Dd) -> Dd {
-    const LIMIT: f64 = 7.450580596923828e-9; // 2⁻²⁷
+    const LIMIT: f64 = 6.103515625e-5; // 2⁻¹⁴
+    const THIRD: Dd = Dd {
+        hi: 0.3333333333333333,
+        lo: 1.850371707708594e-17,
+    };
     if cos.hi > 0.0 && sin.hi >= 0.0 && sin.hi < LIMIT * cos.hi {
         let z = sin / cos;
-        z.add_f64(-z.hi * z.hi * z.hi / 3.0)
+        let w = z.sqr();
+        let tail = z.hi * w.hi * w.hi * (0.2 - w.hi * (1.0 / 7.0 - w.hi / 9.0));
+        (z - z * w * THIRD).add_f64(tail)
     } else {
         sin.atan2(&cos)
     }

@@ -129,7 +129,7 @@ fn f64_integrals_are_those_of_mpfr_to_the_double_double_bound() {
 }
 
 /// The small-angle arctangent is that of MPFR within 4·2⁻¹⁰⁶ of the angle, from 1e-20 to
-/// the switch to the general arctangent (2⁻²⁷) and beyond.
+/// the switch to the general arctangent (2⁻¹⁴) and beyond.
 #[test]
 fn small_angle_is_the_arctangent_to_double_double_accuracy() {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
