@@ -210,9 +210,16 @@ impl Analysis {
             return None;
         }
         let exact = dd.state(t.to_f64());
-        let x = state.map(|v| DoubleDouble::from_f64_exact(v.to_f64()));
-        let errors = sample_errors(&m.fields, &m.n, &m.initial_integrals, &exact, &x, snapshots);
-        Some((exact.map(|v| v.to_float(self.bits)), errors))
+        let x = state.to_array().map(|v| v.to_f64());
+        // The errors of `check`'s f64 path; the snapshots (when asked) from the general code.
+        let (errors, _) =
+            f64_errors::f64_sample_errors(&m.fields, &m.n, &m.initial_integrals, &exact, &x);
+        let snapshots = snapshots.then(|| {
+            let x = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
+            let (_, s) = sample_errors(&m.fields, &m.n, &m.initial_integrals, &exact, &x, true);
+            s.expect("asked for")
+        });
+        Some((exact.map(|v| v.to_float(self.bits)), (errors, snapshots)))
     }
 
     /// Keep the reference exact up to |t| = `t_max` (a stream's later times): when its phase
