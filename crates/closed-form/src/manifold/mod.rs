@@ -11,6 +11,7 @@ pub mod project;
 pub mod relations;
 pub mod spectral;
 pub mod torus_map;
+pub mod torus_table;
 
 pub use distance::{distance, DistanceFromN};
 pub use identify::{identify, Identified, IdentifyError};
@@ -18,3 +19,4 @@ pub use normal::{normal_type, Normal, NormalType};
 pub use project::{Projection, Projector};
 pub use relations::{m_of_integrals, Relations};
 pub use torus_map::TorusMap;
+pub use torus_table::TorusTable;

@@ -39,6 +39,19 @@ impl<T: Real> TorusMap<T> {
         T::pi(self.formula.a.prec()) * self.formula.a.lit(2.0)
     }
 
+    /// The formula constants of the torus.
+    pub(crate) fn formula(&self) -> &FormulaConstants<T> {
+        &self.formula
+    }
+
+    /// The point (v, F, G) of separated variable `i` at its angle ψᵢ.
+    pub fn point(&self, i: usize, psi: &T) -> SeparatedPoint<T> {
+        let v = &self.vars[i];
+        let u = psi.clone() * v.period_u() / &self.two_pi();
+        let (sn, cn) = v.modulus.sn_cn(&u);
+        v.eval::<T>(&sn, &cn)
+    }
+
     /// The phase vector (ω, α, β) at the angles (ψ₁, ψ₂).
     pub fn state_at(&self, psi: &[T; 2]) -> [T; DIM] {
         let two_pi = self.two_pi();
