@@ -5,6 +5,7 @@
 
 pub mod distance;
 pub mod identify;
+mod least_squares;
 pub mod normal;
 pub mod phi_field;
 pub mod project;
