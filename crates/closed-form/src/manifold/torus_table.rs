@@ -22,7 +22,7 @@ use rsts_dynamics::state::DIM;
 use rsts_dynamics::Real;
 
 use crate::formulas::{body_state, BodyState, FormulaConstants, SeparatedCoordinates};
-use crate::manifold::torus_map::TorusMap;
+use crate::manifold::torus_map::{map_formula, TorusMap};
 use crate::separated::SeparatedPoint;
 
 /// Degree of the polynomial on a cell.
@@ -255,26 +255,11 @@ impl TorusTable {
         };
         let curves = [curve(0)?, curve(1)?];
         let f = in_mh.formula();
-        let lift = |x: &Jet<f64, 2>| Jet {
+        let formula = map_formula(f, |x| Jet {
             re: x.re,
             eps: [0.0, 0.0, x.eps[0], x.eps[1]],
-        };
-        let formula = FormulaConstants {
-            a: lift(&f.a),
-            b: lift(&f.b),
-            m: lift(&f.m),
-            ell: lift(&f.ell),
-            r: lift(&f.r),
-            pmh: lift(&f.pmh),
-        };
-        let plain = FormulaConstants {
-            a: f.a.re,
-            b: f.b.re,
-            m: f.m.re,
-            ell: f.ell.re,
-            r: f.r.re,
-            pmh: f.pmh.re,
-        };
+        });
+        let plain = map_formula(f, |x| x.re);
         Some(Self {
             curves,
             formula,
