@@ -8,9 +8,9 @@
 //!   on-N integral relations), typically growing like t or t².
 //!
 //! The regular distance |X_Φ| of [`rsts_closed_form::manifold::distance`] is logged beside it.
-//! The computation runs in the integrator's precision: f64 for the f64 methods (a few tens of
-//! µs per sample), MPFR at the integrator's digits + 32 bits otherwise (docs/stability.md has
-//! the measured cost).
+//! The computation runs in the integrator's precision: f64 for the f64 methods (about a µs per
+//! sample, on the projector's tabulated torus), MPFR at the integrator's digits + 32 bits
+//! otherwise (docs/stability.md says how, docs/benchmarks.md what it costs).
 
 use rsts_closed_form::manifold::distance::{field_norm, gain};
 use rsts_closed_form::manifold::{normal_type, NormalType, Projector};

@@ -5,12 +5,14 @@
 
 pub mod distance;
 pub mod identify;
+mod least_squares;
 pub mod normal;
 pub mod phi_field;
 pub mod project;
 pub mod relations;
 pub mod spectral;
 pub mod torus_map;
+pub mod torus_table;
 
 pub use distance::{distance, DistanceFromN};
 pub use identify::{identify, Identified, IdentifyError};
@@ -18,3 +20,4 @@ pub use normal::{normal_type, Normal, NormalType};
 pub use project::{Projection, Projector};
 pub use relations::{m_of_integrals, Relations};
 pub use torus_map::TorusMap;
+pub use torus_table::TorusTable;

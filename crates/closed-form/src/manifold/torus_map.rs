@@ -39,6 +39,19 @@ impl<T: Real> TorusMap<T> {
         T::pi(self.formula.a.prec()) * self.formula.a.lit(2.0)
     }
 
+    /// The formula constants of the torus.
+    pub(crate) fn formula(&self) -> &FormulaConstants<T> {
+        &self.formula
+    }
+
+    /// The point (v, F, G) of separated variable `i` at its angle ψᵢ.
+    pub fn point(&self, i: usize, psi: &T) -> SeparatedPoint<T> {
+        let v = &self.vars[i];
+        let u = psi.clone() * v.period_u() / &self.two_pi();
+        let (sn, cn) = v.modulus.sn_cn(&u);
+        v.eval::<T>(&sn, &cn)
+    }
+
     /// The phase vector (ω, α, β) at the angles (ψ₁, ψ₂).
     pub fn state_at(&self, psi: &[T; 2]) -> [T; DIM] {
         let two_pi = self.two_pi();
@@ -64,16 +77,7 @@ impl<T: Real> TorusMap<T> {
             let (sn, cn, dn) = v.modulus.sn_cn_dn(&(psi[i].clone() * &du));
             (sn, cn, dn, du)
         });
-        let lift = |x: &T| Dual::constant(x.clone());
-        let f = &self.formula;
-        let fc = FormulaConstants {
-            a: lift(&f.a),
-            b: lift(&f.b),
-            m: lift(&f.m),
-            ell: lift(&f.ell),
-            r: lift(&f.r),
-            pmh: lift(&f.pmh),
-        };
+        let fc = map_formula(&self.formula, |x| Dual::constant(x.clone()));
         let column = |k: usize| -> [Dual<T>; DIM] {
             let points: [SeparatedPoint<Dual<T>>; 2] = std::array::from_fn(|i| {
                 let (sn, cn, dn, du) = &parts[i];
@@ -175,6 +179,21 @@ pub(crate) fn formula_constants<T: Real>(c: &IntegralConstants<T>) -> FormulaCon
         ell: c.ell.clone(),
         r: c.r.clone(),
         pmh: c.pmh.clone(),
+    }
+}
+
+/// The formula constants mapped into another scalar.
+pub(crate) fn map_formula<S, U>(
+    f: &FormulaConstants<S>,
+    g: impl Fn(&S) -> U,
+) -> FormulaConstants<U> {
+    FormulaConstants {
+        a: g(&f.a),
+        b: g(&f.b),
+        m: g(&f.m),
+        ell: g(&f.ell),
+        r: g(&f.r),
+        pmh: g(&f.pmh),
     }
 }
 
