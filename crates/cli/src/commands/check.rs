@@ -321,7 +321,9 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
         }
     };
     let stop = stop_on_ctrl_c();
-    let mut observer = CliObserver::new(log, survey.rows.unwrap_or(0) as u64, stop);
+    // Samples come in microseconds: the bar is ticked every 256.
+    let mut observer =
+        CliObserver::new(log, survey.rows.unwrap_or(0) as u64, stop).ticking_every(256);
     if survey.rows.is_none() {
         // A CSV stream: its length is known at its end.
         observer.bar.unset_length();
