@@ -4,7 +4,7 @@
 //! library's `rsts_harness::check`), its MCAP log holds every sample once.
 
 mod common;
-use common::{camera_v_dopri5_csv, json_doc, rsts, s, stderr, tmp};
+use common::{camera_v_dopri5_csv, json_doc, rsts, s, stderr, tmp, whole_check};
 use rsts_external::stream::CHUNK_ROWS;
 
 /// The rows of `csv` with value `column` of data line `k` (0: the first row) written with 29
@@ -33,23 +33,8 @@ fn a_long_value_anywhere_makes_a_file_high_precision_data() {
         )
         .unwrap();
         assert!(raw.is_high_precision());
-        let request = rsts_harness::CheckRequest {
-            file: s(&path).to_string(),
-            name: path.file_name().unwrap().to_string_lossy().into_owned(),
-            a: 1.0,
-            b: 0.5,
-            motion: None,
-            digits: raw.digits() as u32,
-        };
-        let samples = raw.to_samples(request.reference_bits());
-        let whole = rsts_harness::check(
-            &request,
-            &samples.times,
-            &samples.states,
-            &mut rsts_harness::NoObserver,
-        )
-        .unwrap();
-        let whole = serde_json::to_value(&whole).unwrap();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let whole = whole_check(&raw, s(&path), &name, raw.digits() as u32);
         assert_eq!(whole["digits"], 29, "{what}: {whole}");
 
         let mcap = tmp(&format!("long-{k}.mcap"));
