@@ -364,6 +364,17 @@ pub fn write_missing_cameras(out: &mut dyn Write, found: impl Fn(&str) -> bool) 
 /// Count one more done on `bar`, drawing it on stderr once the run has taken a second, and only
 /// on a terminal (`shown` remembers that it is drawn).
 pub fn tick_progress(bar: &indicatif::ProgressBar, started: std::time::Instant, shown: &mut bool) {
+    tick_progress_by(bar, started, shown, 1);
+}
+
+/// [`tick_progress`] of `done` more at once (a caller that counts many small steps ticks
+/// every so many: a tick reads the clock).
+pub fn tick_progress_by(
+    bar: &indicatif::ProgressBar,
+    started: std::time::Instant,
+    shown: &mut bool,
+    done: u64,
+) {
     use std::io::IsTerminal;
     if !*shown
         && started.elapsed() > std::time::Duration::from_secs(1)
@@ -372,7 +383,7 @@ pub fn tick_progress(bar: &indicatif::ProgressBar, started: std::time::Instant, 
         bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
         *shown = true;
     }
-    bar.inc(1);
+    bar.inc(done);
 }
 
 #[cfg(test)]

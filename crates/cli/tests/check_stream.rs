@@ -8,7 +8,7 @@ mod common;
 use std::io::Write;
 use std::process::{Command, Stdio};
 
-use common::{camera_v_dopri5_csv, exit_2, json_doc, rsts, s, tmp};
+use common::{camera_v_dopri5_csv, exit_2, json_doc, rsts, s, tmp, whole_check};
 use rsts_external::stream::CHUNK_ROWS;
 
 /// `rsts check` with `input` on standard input.
@@ -37,23 +37,7 @@ fn a_streamed_check_reports_what_the_whole_trajectory_gives() {
     // The whole trajectory at once, through the library.
     let raw =
         rsts_external::parse_trajectory(&csv, rsts_external::FileFormat::Csv, s(&path)).unwrap();
-    let request = rsts_harness::CheckRequest {
-        file: s(&path).to_string(),
-        name: "traj.csv".into(),
-        a: 1.0,
-        b: 0.5,
-        motion: None,
-        digits: 15,
-    };
-    let samples = raw.to_samples(request.reference_bits());
-    let whole = rsts_harness::check(
-        &request,
-        &samples.times,
-        &samples.states,
-        &mut rsts_harness::NoObserver,
-    )
-    .unwrap();
-    let whole = serde_json::to_value(&whole).unwrap();
+    let whole = whole_check(&raw, s(&path), "traj.csv", 15);
     assert_eq!(whole["samples_compared"], n);
     assert!(whole["max_state_error"].as_f64().unwrap() > 1e-9, "{whole}");
     assert!(whole["normal"]["growth"].is_object(), "{whole}");

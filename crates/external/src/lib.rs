@@ -27,4 +27,4 @@ pub use exec::{
 };
 pub use files::{npy_bytes, npy_header, parse_trajectory, read_trajectory, FileFormat, COLUMNS};
 pub use samples::{Number, RawTrajectory, Samples};
-pub use stream::{check_rest, check_rest_f64, F64Chunk, Survey, TrajectoryReader};
+pub use stream::{check_rest, check_rest_f64, F64Chunk, RestF64, Survey, TrajectoryReader};

@@ -16,8 +16,10 @@ use crate::files::{
 };
 use crate::samples::{comes_after, not_after, Number, RawTrajectory, F64_TEXT_DIGITS};
 
+mod csv_count;
 mod f64_rows;
-pub use f64_rows::{check_rest_f64, F64Chunk};
+mod plain_csv;
+pub use f64_rows::{check_rest_f64, F64Chunk, RestF64};
 #[cfg(test)]
 mod survey_tests;
 
@@ -72,6 +74,8 @@ pub struct TrajectoryReader {
     read: usize,
     /// The cost the file states (a JSON file's `stats`; nothing for the streamed formats).
     stats: rsts_harness::StatedStats,
+    /// Opened without a survey of its digits ([`TrajectoryReader::open_f64`]).
+    reread_if_long: bool,
 }
 
 /// The samples of a trajectory read whole, in order.
@@ -86,6 +90,8 @@ enum Rows {
         header: Option<CsvHeader>,
         line: usize,
         buf: Vec<u8>,
+        /// Where the fields of a plain line go (from the header, for [`plain_csv`]).
+        layout: Option<plain_csv::Layout>,
     },
     Npy {
         /// The data after the header (C order, float64 of `big_endian` byte order).
@@ -157,6 +163,7 @@ impl TrajectoryReader {
                 header: None,
                 line: 0,
                 buf: Vec::new(),
+                layout: None,
             },
             FileFormat::Npy => {
                 let (npy, shape) = npy_open(Box::new(buffered) as Box<dyn Read + Send>)
@@ -208,6 +215,7 @@ impl TrajectoryReader {
             last: None,
             read: 0,
             stats: Default::default(),
+            reread_if_long: false,
         })
     }
 
@@ -243,6 +251,7 @@ impl TrajectoryReader {
             last: None,
             read: 0,
             stats,
+            reread_if_long: false,
         })
     }
 
@@ -320,6 +329,7 @@ impl Rows {
                 header,
                 line,
                 buf,
+                ..
             } => {
                 let row = csv_row(input, header, line, buf, |h, k, text| h.row(k, text))?;
                 Ok(row.map(|(k, (t, state))| (t, state, format!("line {k}"))))

@@ -306,6 +306,8 @@ impl Analysis {
         place: impl for<'a> Fn(&'a T, &'a S) -> (f64, Option<(&'a Float, &'a State<Float>)>),
     ) -> Result<Option<SampleErrors>, HarnessError> {
         let mut first = None;
+        // One buffer for every batch (no allocation per batch).
+        let mut evaluated: Vec<Evaluated> = Vec::new();
         for (tc, sc) in times.chunks(BATCH).zip(states.chunks(BATCH)) {
             if observer.should_stop() {
                 self.mark_incomplete();
@@ -313,12 +315,11 @@ impl Analysis {
             }
             let me = &*self;
             let wanted = observer.wants_states();
-            let evaluated: Vec<Evaluated> = tc
-                .par_iter()
+            tc.par_iter()
                 .zip(sc)
                 .map(|(t, s)| evaluate(me, t, s, wanted))
-                .collect();
-            for ((t, s), ev) in tc.iter().zip(sc).zip(evaluated) {
+                .collect_into_vec(&mut evaluated);
+            for ((t, s), ev) in tc.iter().zip(sc).zip(evaluated.drain(..)) {
                 if observer.should_stop() {
                     self.mark_incomplete();
                     self.update_digits();

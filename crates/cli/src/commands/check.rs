@@ -123,16 +123,36 @@ enum FirstChunk {
     Read(rsts_external::RawTrajectory),
 }
 
-/// The trajectory of FILE (read through once first: its survey), or of standard input for `-`
-/// (surveyed from its first chunk), and its first chunk.
-fn open_input(args: &Args) -> anyhow::Result<(TrajectoryReader, Survey, FirstChunk)> {
+/// A file opened for f64 data in one pass ([`TrajectoryReader::open_f64`]) has a value of
+/// more than 17 digits at this place: `rsts check` reads it again, surveyed.
+#[derive(Debug)]
+struct HighPrecisionFile(String);
+
+impl std::fmt::Display for HighPrecisionFile {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: a value of more than 17 digits", self.0)
+    }
+}
+
+impl std::error::Error for HighPrecisionFile {}
+
+/// The trajectory of FILE (`one_pass`: opened for f64 data, [`TrajectoryReader::open_f64`];
+/// else read through once first: its survey), or of standard input for `-` (surveyed from its
+/// first chunk), and its first chunk.
+fn open_input(
+    args: &Args,
+    one_pass: bool,
+) -> anyhow::Result<(TrajectoryReader, Survey, FirstChunk)> {
     use rsts_external::FileFormat;
     let (mut reader, survey) = if args.file.as_os_str() != "-" {
         if args.input_format.is_some() {
             bail!("--input-format: only for standard input (FILE -); a file's format is its extension");
         }
-        let (reader, survey) =
-            TrajectoryReader::open_surveyed(&args.file).map_err(|e| anyhow!("{e}"))?;
+        let open = match one_pass {
+            true => TrajectoryReader::open_f64,
+            false => TrajectoryReader::open_surveyed,
+        };
+        let (reader, survey) = open(&args.file).map_err(|e| anyhow!("{e}"))?;
         (reader, Some(survey))
     } else {
         let Some(format) = args.input_format else {
@@ -155,6 +175,9 @@ fn open_input(args: &Args) -> anyhow::Result<(TrajectoryReader, Survey, FirstChu
             .map_err(|e| anyhow!("{e}"))?
         {
             bail!("no samples");
+        }
+        if let Some(place) = first.long_at.as_ref().filter(|_| reader.reread_if_long()) {
+            return Err(HighPrecisionFile(place.clone()).into());
         }
         survey.add_times(&first.times);
         return Ok((reader, survey, FirstChunk::F64(first)));
@@ -183,6 +206,16 @@ struct Document<'a> {
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
+    // A file is read in one pass as f64 data, and again, surveyed, when it has a longer value
+    // (nothing is written before the analysis ends).
+    match run_reading(&args, out, true) {
+        Err(e) if e.is::<HighPrecisionFile>() => run_reading(&args, out, false),
+        done => done,
+    }
+}
+
+/// [`run`], FILE opened in one pass or surveyed ([`open_input`]).
+fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Result<()> {
     if args.dense.is_some() {
         bail!("--dense: a trajectory file does not say where its integrator's steps are or how it interpolates; check dense output with `rsts compare --dense K` (a built-in method, or --exec with an adapter that reports its step times)");
     }
@@ -251,7 +284,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             bail!("--max-event-error: must be non-negative, got {e}");
         }
     }
-    let (mut reader, survey, first) = open_input(&args)?;
+    let (mut reader, survey, first) = open_input(args, one_pass)?;
     let high = survey.is_high_precision();
     request.digits = match args.digits {
         Some(d) => d,
@@ -288,7 +321,9 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         }
     };
     let stop = stop_on_ctrl_c();
-    let mut observer = CliObserver::new(log, survey.rows.unwrap_or(0) as u64, stop);
+    // Samples come in microseconds: the bar is ticked every 256.
+    let mut observer =
+        CliObserver::new(log, survey.rows.unwrap_or(0) as u64, stop).ticking_every(256);
     if survey.rows.is_none() {
         // A CSV stream: its length is known at its end.
         observer.bar.unset_length();
@@ -304,8 +339,12 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                     .map_err(|e| anyhow!("{e}"))?;
                 drop(chunk);
                 if more {
-                    rsts_external::check_rest_f64(&mut reader, &mut stream, &mut observer)
-                        .map_err(|e| anyhow!("{e}"))?;
+                    let rest =
+                        rsts_external::check_rest_f64(&mut reader, &mut stream, &mut observer)
+                            .map_err(|e| anyhow!("{e}"))?;
+                    if let rsts_external::RestF64::HighPrecision(place) = rest {
+                        return Err(HighPrecisionFile(place).into());
+                    }
                 }
             }
             FirstChunk::Read(raw) => {

@@ -120,6 +120,10 @@ pub(crate) struct CliObserver {
     shown: bool,
     started: Instant,
     stop: Arc<AtomicBool>,
+    /// Samples not yet counted on the bar, and how many make a tick (a tick reads the clock:
+    /// `rsts check` of f64 data ticks every few hundred samples).
+    pending: u64,
+    tick: u64,
 }
 
 /// A flag set by the first Ctrl-C (the run stops after the current piece or sample, and an
@@ -161,7 +165,16 @@ impl CliObserver {
             shown: false,
             started: Instant::now(),
             stop,
+            pending: 0,
+            tick: 1,
         }
+    }
+
+    /// Tick the bar every `samples` samples (the last ones of a run are not shown: the bar
+    /// is cleared then).
+    pub(crate) fn ticking_every(mut self, samples: u64) -> Self {
+        self.tick = samples.max(1);
+        self
     }
 }
 
@@ -211,7 +224,11 @@ impl Observer for CliObserver {
             .map_err(|e| format!("writing the MCAP file: {}", rsts_io::error_text(&e)))?;
         }
         // Show the bar only for runs longer than a second, and only on a terminal.
-        output::tick_progress(&self.bar, self.started, &mut self.shown);
+        self.pending += 1;
+        if self.pending >= self.tick {
+            output::tick_progress_by(&self.bar, self.started, &mut self.shown, self.pending);
+            self.pending = 0;
+        }
         Ok(())
     }
 

@@ -184,3 +184,30 @@ pub fn adapter_command(python: &str, script: &str, arg: &str) -> String {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/adapters");
     format!("{python} {} {arg}", root.join(script).display())
 }
+
+/// The report of `rsts check FILE --format json` (motion identified, default fields) computed
+/// by the library on the whole trajectory `raw` at once: `file` as given, `name` the method.
+pub fn whole_check(
+    raw: &rsts_external::RawTrajectory,
+    file: &str,
+    name: &str,
+    digits: u32,
+) -> serde_json::Value {
+    let request = rsts_harness::CheckRequest {
+        file: file.to_string(),
+        name: name.to_string(),
+        a: 1.0,
+        b: 0.5,
+        motion: None,
+        digits,
+    };
+    let samples = raw.to_samples(request.reference_bits());
+    let whole = rsts_harness::check(
+        &request,
+        &samples.times,
+        &samples.states,
+        &mut rsts_harness::NoObserver,
+    )
+    .unwrap();
+    serde_json::to_value(&whole).unwrap()
+}

@@ -6,7 +6,9 @@
 
 use rsts_harness::{CheckStream, Observer};
 
-use super::{csv_line, csv_row, line_text, too_many, Rows, Survey, TrajectoryReader, CHUNK_ROWS};
+use super::{
+    csv_line, csv_row, line_text, plain_csv, too_many, Rows, Survey, TrajectoryReader, CHUNK_ROWS,
+};
 use crate::files::{npy_row, unquote, CsvHeader, COLUMNS};
 use crate::samples::{
     check_component, comes_after, not_after, significant_digits, significant_digits_of_bytes,
@@ -81,11 +83,11 @@ impl Place {
 
 /// One row as f64, with its time's text (a decimal text; empty for a binary64 value).
 #[derive(Default)]
-struct Row {
-    t: f64,
-    t_text: String,
-    x: [f64; 9],
-    digits: usize,
+pub(super) struct Row {
+    pub(super) t: f64,
+    pub(super) t_text: String,
+    pub(super) x: [f64; 9],
+    pub(super) digits: usize,
 }
 
 impl Row {
@@ -202,6 +204,7 @@ impl Rows {
             header,
             line,
             buf,
+            ..
         } = self
         else {
             return Ok(0);
@@ -253,7 +256,18 @@ impl Rows {
                 header,
                 line,
                 buf,
+                layout,
             } => {
+                if let Some(h) = header {
+                    // A plain line straight from the buffer (the others as below).
+                    let layout = layout.get_or_insert_with(|| plain_csv::Layout::of(h));
+                    let bytes = input.fill_buf().map_err(|e| format!("cannot read ({e})"))?;
+                    if let Some(n) = plain_csv::plain_row(bytes, layout, row) {
+                        input.consume(n);
+                        *line += 1;
+                        return Ok(Some(Place::Line(*line)));
+                    }
+                }
                 let read =
                     |h: &CsvHeader, k, text: &str| Ok(csv_row_f64(h, k, text, row)?.then_some(()));
                 Ok(csv_row(input, header, line, buf, read)?.map(|(k, ())| Place::Line(k)))
@@ -367,17 +381,31 @@ fn csv_row_f64(h: &CsvHeader, k: usize, line: &str, row: &mut Row) -> Result<boo
     Ok(true)
 }
 
+/// How [`check_rest_f64`] ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RestF64 {
+    /// Every row analysed (or the observer stopped the check).
+    Done,
+    /// A value of more than 17 digits at this place of a file opened without a survey of its
+    /// digits ([`TrajectoryReader::open_f64`]): high-precision data, to be read again surveyed.
+    HighPrecision(String),
+}
+
 /// [`super::check_rest`] of f64 data: the rows read as f64 and analysed in double-double
-/// ([`CheckStream::feed_f64`]). A stream's value of more than 17 digits is refused.
+/// ([`CheckStream::feed_f64`]). A stream's value of more than 17 digits is refused; a file's
+/// read in one pass ends the check with [`RestF64::HighPrecision`].
 pub fn check_rest_f64(
     reader: &mut TrajectoryReader,
     check: &mut CheckStream,
     observer: &mut dyn Observer,
-) -> Result<(), String> {
+) -> Result<RestF64, String> {
     let mut chunk = F64Chunk::default();
     while reader.next_chunk_f64(&mut chunk)? {
-        if let Some(place) = &chunk.long_at {
-            return Err(super::long_after_f64(&reader.name, place));
+        if let Some(place) = chunk.long_at.take() {
+            if reader.reread_if_long {
+                return Ok(RestF64::HighPrecision(place));
+            }
+            return Err(super::long_after_f64(&reader.name, &place));
         }
         let more = check
             .feed_f64(&chunk.times, &chunk.states, observer)
@@ -386,5 +414,5 @@ pub fn check_rest_f64(
             break;
         }
     }
-    Ok(())
+    Ok(RestF64::Done)
 }

@@ -67,3 +67,42 @@ fn an_npy_survey_is_its_header() {
         [0.1, 0.2, 0.3, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
     );
 }
+
+/// A CSV opened for f64 data in one pass: its rows counted from its lines (blank lines, a
+/// comment, CRLF ends, a quoted time, a last line without its end) and its extent from its
+/// last row's time (negative times: |t| largest at the start, read with the first chunk);
+/// its digits are left to the reading. A CSV that is not ASCII is surveyed as before.
+#[test]
+fn a_csv_opened_in_one_pass_counts_its_rows_and_reads_its_last_time() {
+    let rows = [
+        "\n",
+        "omega1,\"t\",omega2,omega3,alpha1,alpha2,alpha3,beta1,beta2,beta3,note\n",
+        "0.1,-7.25,0.2,0.3,1,0,0,0,1,0,a\n",
+        " \x0b \r\n",
+        "  # a comment\n",
+        "0.1,\"-2.5\",0.2,0.3,1,0,0,0,1,0,b\r\n",
+        "0.123456789012345678,3.5,0.2,0.3,1,0,0,0,1,0,c",
+    ];
+    let path = file("one.csv", rows.concat().as_bytes());
+    let (mut reader, survey) = TrajectoryReader::open_f64(&path).unwrap();
+    assert!(reader.reread_if_long());
+    assert_eq!(
+        (survey.rows, survey.digits, survey.extent),
+        (Some(3), 0, 3.5)
+    );
+    let mut chunk = super::F64Chunk::default();
+    assert!(reader.next_chunk_f64(&mut chunk).unwrap());
+    assert_eq!(chunk.times, [-7.25, -2.5, 3.5]);
+    assert_eq!(chunk.digits, 18);
+    assert_eq!(chunk.long_at.as_deref(), Some("line 7"));
+
+    let mut other = rows.concat();
+    other = other.replace("a comment", "a comment, café");
+    let path = file("two.csv", other.as_bytes());
+    let (reader, survey) = TrajectoryReader::open_f64(&path).unwrap();
+    assert!(!reader.reread_if_long());
+    assert_eq!(
+        (survey.rows, survey.digits, survey.extent),
+        (Some(3), 18, 7.25)
+    );
+}
