@@ -11,7 +11,7 @@ use rsts_dynamics::scalar::DoubleDouble;
 use super::phase::turns_at;
 use super::ExplicitMotion;
 use crate::elliptic::EllipticModulus;
-use crate::formulas::{body_state, BodyState, ExplicitState, SeparatedCoordinates};
+use crate::formulas::{body_state_with, BodyState, ExplicitState, SeparatedCoordinates};
 
 /// A build of the double-double state.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -110,7 +110,8 @@ fn body_in_turns(m: &ExplicitMotion<DoubleDouble>, t: f64) -> Option<BodyState<D
     );
     let x1 = v1.eval::<DoubleDouble>(&q1, &p1);
     let x2 = v2.eval::<DoubleDouble>(&q2, &p2);
-    Some(body_state(&m.formula, &SeparatedCoordinates::new(x1, x2)))
+    let point = SeparatedCoordinates::new(x1, x2);
+    Some(body_state_with(&m.formula, &m.products, &point))
 }
 
 #[cfg(target_arch = "x86_64")]
