@@ -154,14 +154,7 @@ impl<T: Real> EllipticModulus<T> {
         }
         let mut x = Recursion::new(c1 * &first.a[n1], s1);
         let mut y = Recursion::new(c2 * &second.a[n2], s2);
-        for j in 0..n1.max(n2) {
-            if j < n1 {
-                first.level(&mut x, n1 - j, false);
-            }
-            if j < n2 {
-                second.level(&mut y, n2 - j, false);
-            }
-        }
+        Self::levels_side_by_side(first, &mut x, second, &mut y);
         let ((sn1, cn1, _), (sn2, cn2, _)) = (x.finish(false), y.finish(false));
         ((sn1, cn1), (sn2, cn2))
     }
@@ -188,15 +181,28 @@ impl<T: Real> EllipticModulus<T> {
         let (n1, n2) = (first.a.len() - 1, second.a.len() - 1);
         let mut x = Recursion::new(c1 * &first.a[n1], s1);
         let mut y = Recursion::new(c2 * &second.a[n2], s2);
+        Self::levels_side_by_side(first, &mut x, second, &mut y);
+        (x.ratio(), y.ratio())
+    }
+
+    /// The levels N…1 of two recursions (without the last dn), level by level side by side so
+    /// that the processor overlaps their chains of dependent operations.
+    #[inline(always)]
+    fn levels_side_by_side(
+        first: &Self,
+        x: &mut Recursion<T>,
+        second: &Self,
+        y: &mut Recursion<T>,
+    ) {
+        let (n1, n2) = (first.a.len() - 1, second.a.len() - 1);
         for j in 0..n1.max(n2) {
             if j < n1 {
-                first.level(&mut x, n1 - j, false);
+                first.level(x, n1 - j, false);
             }
             if j < n2 {
-                second.level(&mut y, n2 - j, false);
+                second.level(y, n2 - j, false);
             }
         }
-        (x.ratio(), y.ratio())
     }
 
     /// Level i of Bulirsch's recursion (see [`Recursion`]); at i = 1 without dn only c ← c·dn.

@@ -75,6 +75,13 @@ impl DoubleDouble {
         let t = *self - Self::prod_f64(n, PI[0] / 16.0);
         let t = t - Self::prod_f64(n, PI[1] / 16.0);
         let t = t - Self::from_f64_exact(n * (PI[2] / 16.0));
+        Self::sin_cos_sixteenths(t, n)
+    }
+
+    /// (sin, cos) of nπ/16 + t for |t| ≤ π/32: n = 8j + k with |k| ≤ 4, the quadrant j by
+    /// symmetry.
+    #[inline(always)]
+    fn sin_cos_sixteenths(t: Self, n: f64) -> (Self, Self) {
         let j = (n / 8.0).round();
         let (s, c) = Self::sin_cos_reduced(t, n - 8.0 * j);
         match (j.rem_euclid(4.0)) as u32 {
@@ -97,15 +104,7 @@ impl DoubleDouble {
         }
         let n = (self.hi * 32.0).round();
         let r = Self::sum_f64(self.hi - n / 32.0, self.lo);
-        let t = r * TWO_PI;
-        let j = (n / 8.0).round();
-        let (s, c) = Self::sin_cos_reduced(t, n - 8.0 * j);
-        match (j.rem_euclid(4.0)) as u32 {
-            0 => (s, c),
-            1 => (c, -s),
-            2 => (-s, -c),
-            _ => (-c, s),
-        }
+        Self::sin_cos_sixteenths(r * TWO_PI, n)
     }
 
     /// √x by Karp's step from the f64 reciprocal square root.
