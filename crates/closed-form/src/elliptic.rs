@@ -154,16 +154,55 @@ impl<T: Real> EllipticModulus<T> {
         }
         let mut x = Recursion::new(c1 * &first.a[n1], s1);
         let mut y = Recursion::new(c2 * &second.a[n2], s2);
-        for j in 0..n1.max(n2) {
-            if j < n1 {
-                first.level(&mut x, n1 - j, false);
-            }
-            if j < n2 {
-                second.level(&mut y, n2 - j, false);
-            }
-        }
+        Self::levels_side_by_side(first, &mut x, second, &mut y);
         let ((sn1, cn1, _), (sn2, cn2, _)) = (x.finish(false), y.finish(false));
         ((sn1, cn1), (sn2, cn2))
+    }
+
+    /// sn u : cn u of two moduli at once from sin and cos of a_N·u given by the caller (who
+    /// may know the angle a_N·u = 2π·u/4K more cheaply than from u: in turns), as pairs (q, p)
+    /// with sn = q/√(p² + q²) and cn = p/√(p² + q²), both scaled by one power of two that
+    /// brings the larger near 1: Bulirsch's recursion of [`Self::sn_cn_pair`] without its last
+    /// step (a square root and two products), for what is homogeneous of degree 0 in (sn, cn)
+    /// ([`crate::separated::SeparatedVariable::eval`]). Near a zero of sin (the Landen branch)
+    /// `u1`, `u2` give u and the pair is (sn, cn).
+    #[inline(always)]
+    pub fn sn_cn_ratio_pair(
+        first: &Self,
+        (s1, c1): (T, T),
+        u1: impl FnOnce() -> T,
+        second: &Self,
+        (s2, c2): (T, T),
+        u2: impl FnOnce() -> T,
+    ) -> ((T, T), (T, T)) {
+        if s1.to_f64().abs() < 1e-30 || s2.to_f64().abs() < 1e-30 {
+            return (first.sn_cn(&u1()), second.sn_cn(&u2()));
+        }
+        let (n1, n2) = (first.a.len() - 1, second.a.len() - 1);
+        let mut x = Recursion::new(c1 * &first.a[n1], s1);
+        let mut y = Recursion::new(c2 * &second.a[n2], s2);
+        Self::levels_side_by_side(first, &mut x, second, &mut y);
+        (x.ratio(), y.ratio())
+    }
+
+    /// The levels N…1 of two recursions (without the last dn), level by level side by side so
+    /// that the processor overlaps their chains of dependent operations.
+    #[inline(always)]
+    fn levels_side_by_side(
+        first: &Self,
+        x: &mut Recursion<T>,
+        second: &Self,
+        y: &mut Recursion<T>,
+    ) {
+        let (n1, n2) = (first.a.len() - 1, second.a.len() - 1);
+        for j in 0..n1.max(n2) {
+            if j < n1 {
+                first.level(x, n1 - j, false);
+            }
+            if j < n2 {
+                second.level(y, n2 - j, false);
+            }
+        }
     }
 
     /// Level i of Bulirsch's recursion (see [`Recursion`]); at i = 1 without dn only c ← c·dn.
@@ -261,6 +300,22 @@ impl<T: Real> Recursion<T> {
         let mag = self.p.square().add_same_sign(&self.q.square()).recip_sqrt();
         let dn = want_dn.then(|| self.dn.map_or_else(|| mag.one_like(), |(r, s)| r / s));
         (self.q * &mag, self.p * &mag, dn)
+    }
+
+    /// (q, p) = sn : cn (the recursion run to its end, without the normalisation of
+    /// [`Self::finish`]), the larger brought into [1, 2) by a power of two (exact).
+    #[inline(always)]
+    fn ratio(self) -> (T, T) {
+        debug_assert!(self.dn.is_none());
+        let (mut p, mut q) = (self.p, self.q);
+        // The biased exponent e of the larger: times 2^(1023 − e), exactly, when both are normal.
+        let e = (p.to_f64().abs().max(q.to_f64().abs()).to_bits() >> 52) as u32;
+        if (1..=2045).contains(&e) {
+            let f = p.lit(f64::from_bits(u64::from(2046 - e) << 52));
+            p *= &f;
+            q *= &f;
+        }
+        (q, p)
     }
 }
 

@@ -23,6 +23,35 @@ pub struct FormulaConstants<S> {
     pub pmh: S,
 }
 
+/// The products of the constants that every point uses (a², b², ab, 2m, 4m, 2ℓ, 2(p²m + h)),
+/// formed once per motion ([`body_state_with`]): the numbers each point formed before, so the
+/// state is the same bit for bit.
+#[derive(Clone, Debug)]
+pub struct ConstantProducts<S> {
+    a2: S,
+    b2: S,
+    ab: S,
+    two_m: S,
+    four_m: S,
+    two_ell: S,
+    two_pmh: S,
+}
+
+impl<S: Real> ConstantProducts<S> {
+    pub fn new(c: &FormulaConstants<S>) -> Self {
+        let two_m = twice(&c.m);
+        Self {
+            a2: c.a.square(),
+            b2: c.b.square(),
+            ab: c.a.clone() * &c.b,
+            four_m: twice(&two_m),
+            two_m,
+            two_ell: twice(&c.ell),
+            two_pmh: twice(&c.pmh),
+        }
+    }
+}
+
 /// The point (x, s₂, F₁*, G₁*, F₂, G₂) of N in separated variables.
 #[derive(Clone, Debug)]
 pub struct SeparatedCoordinates<S> {
@@ -130,26 +159,25 @@ fn twice<S: Real>(v: &S) -> S {
 
 impl<S: Real> Shared<S> {
     #[inline(always)]
-    fn new(c: &FormulaConstants<S>, p: &SeparatedCoordinates<S>) -> Self {
+    fn new(c: &FormulaConstants<S>, k: &ConstantProducts<S>, p: &SeparatedCoordinates<S>) -> Self {
         let one = p.x.one_like();
         let half = one.lit(0.5);
-        let (a, b, m, ell, r) = (&c.a, &c.b, &c.m, &c.ell, &c.r);
+        let (a, b, r) = (&c.a, &c.b, &c.r);
         let (x, s2, f1, g1, f2, g2) = (&p.x, &p.s2, &p.f1, &p.g1, &p.f2, &p.g2);
-        let a2 = a.square();
-        let b2 = b.square();
-        let ab = a.clone() * b;
+        let (a2, b2, ab) = (k.a2.clone(), k.b2.clone(), &k.ab);
         let xs2 = x.clone() * s2;
         let d = one.clone() - &xs2;
         // Reciprocals of the denominators from q = 1/(abd).
         let inv_abd = one.clone() / (ab.clone() * &d);
         let inv_ad = inv_abd.clone() * b;
         let inv_bd = inv_abd.clone() * a;
-        let inv_d = inv_abd.clone() * &ab;
+        let inv_d = inv_abd.clone() * ab;
         let inv_two_d = inv_d.clone() * &half;
         let inv_two_a_d2 = inv_ad.clone() * &inv_two_d;
         let inv_two_b_d2 = inv_bd.clone() * &inv_two_d;
-        let two_m = twice(m);
-        let psi = twice(&two_m) * s2 - twice(ell) * (one.clone() + &xs2) + twice(&c.pmh) * x;
+        let two_m = k.two_m.clone();
+        let psi = k.four_m.clone() * s2 - k.two_ell.clone() * (one.clone() + &xs2)
+            + k.two_pmh.clone() * x;
         let f1g2 = f1.clone() * g2;
         let f2g1 = f2.clone() * g1;
         let rg1 = r.clone() * g1;
@@ -213,7 +241,17 @@ impl<S: Real> Shared<S> {
 /// its products).
 #[inline(always)]
 pub fn body_state<S: Real>(c: &FormulaConstants<S>, p: &SeparatedCoordinates<S>) -> BodyState<S> {
-    Shared::new(c, p).body(c, p)
+    body_state_with(c, &ConstantProducts::new(c), p)
+}
+
+/// [`body_state`] with the products of the constants formed beforehand.
+#[inline(always)]
+pub fn body_state_with<S: Real>(
+    c: &FormulaConstants<S>,
+    k: &ConstantProducts<S>,
+    p: &SeparatedCoordinates<S>,
+) -> BodyState<S> {
+    Shared::new(c, k, p).body(c, p)
 }
 
 /// Evaluate all formulas at a point.
@@ -222,7 +260,7 @@ pub fn explicit_state<S: Real>(
     c: &FormulaConstants<S>,
     p: SeparatedCoordinates<S>,
 ) -> ExplicitState<S> {
-    let sh = Shared::new(c, &p);
+    let sh = Shared::new(c, &ConstantProducts::new(c), &p);
     let BodyState { omega, alpha, beta } = sh.body(c, &p);
     let one = sh.one.clone();
     let two = one.lit(2.0);

@@ -11,7 +11,8 @@ use crate::constants::IntegralConstants;
 use crate::elliptic::EllipticModulus;
 use crate::error::ClosedFormError;
 use crate::formulas::{
-    body_state, explicit_state, BodyState, ExplicitState, FormulaConstants, SeparatedCoordinates,
+    body_state_with, explicit_state, BodyState, ConstantProducts, ExplicitState, FormulaConstants,
+    SeparatedCoordinates,
 };
 use crate::roots::Root;
 use crate::scalar::{Scalar, GUARD_BITS};
@@ -55,6 +56,8 @@ pub struct ExplicitMotion<T> {
     /// u at t = 0 for each variable.
     u0: [T; 2],
     formula: FormulaConstants<T>,
+    /// Products of the formula's constants, formed once.
+    products: ConstantProducts<T>,
     /// The phase in extra precision (absent in the internal high-precision build).
     clock: Option<PhaseClock>,
 }
@@ -141,6 +144,14 @@ impl<T: Scalar> ExplicitMotion<T> {
             vars.map(|v| v.u_dot.clone()),
             vars.map(|v| v.modulus.big_k.clone() * 4u32),
         );
+        let formula = FormulaConstants {
+            a: down(&exact.formula.a),
+            b: down(&exact.formula.b),
+            m: down(&exact.formula.m),
+            ell: down(&exact.formula.ell),
+            r: down(&exact.formula.r),
+            pmh: down(&exact.formula.pmh),
+        };
         Ok(Self {
             constants: exact.constants.map(&down),
             camera: exact.camera,
@@ -149,14 +160,8 @@ impl<T: Scalar> ExplicitMotion<T> {
             first: exact.first.map(&down),
             second: exact.second.map(&down),
             u0: exact.u0.clone().map(|x| down(&x)),
-            formula: FormulaConstants {
-                a: down(&exact.formula.a),
-                b: down(&exact.formula.b),
-                m: down(&exact.formula.m),
-                ell: down(&exact.formula.ell),
-                r: down(&exact.formula.r),
-                pmh: down(&exact.formula.pmh),
-            },
+            products: ConstantProducts::new(&formula),
+            formula,
             clock: Some(clock),
         })
     }
@@ -265,7 +270,11 @@ impl<T: Scalar> ExplicitMotion<T> {
             EllipticModulus::sn_cn_pair(&self.first.modulus, &u1, &self.second.modulus, &u2);
         let p1 = self.first.eval::<T>(&sn1, &cn1);
         let p2 = self.second.eval::<T>(&sn2, &cn2);
-        body_state(&self.formula, &SeparatedCoordinates::new(p1, p2))
+        body_state_with(
+            &self.formula,
+            &self.products,
+            &SeparatedCoordinates::new(p1, p2),
+        )
     }
 
     /// The state at time t with its time derivative (dual parts), by the chain rule through the
@@ -382,6 +391,7 @@ impl<T: Real> ExplicitMotion<T> {
             first,
             second,
             u0,
+            products: ConstantProducts::new(&formula),
             formula,
             clock: None,
         })

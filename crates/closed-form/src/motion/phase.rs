@@ -43,6 +43,16 @@ pub(super) struct PhaseClock {
     fast: Option<[FastConstants; 2]>,
     /// The expansions are exact (bits ≤ 53 + 64 ≤ 159): [`Self::reduced_f64`] may use them.
     exact: bool,
+    /// The phases in turns (u/4K) as f64 expansions, with `fast`.
+    turns: Option<[TurnConstants; 2]>,
+}
+
+/// One variable's phase in turns, φ = u/4K = φ₀ + φ̇·t, as three-term f64 expansions (the
+/// quotients u₀/4K and u̇/4K at the clock's precision, held to 159 bits).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct TurnConstants {
+    start: [f64; 3],
+    rate: [f64; 3],
 }
 
 /// One variable's constants as exact three-term f64 expansions.
@@ -107,6 +117,16 @@ impl PhaseClock {
                     && c.four_k[0] > 0.0
             })
         });
+        let turns = fast.map(|_| {
+            std::array::from_fn(|i| TurnConstants {
+                start: split3(&Float::with_val(bits, &u0[i] / &four_k[i])),
+                rate: split3(&Float::with_val(bits, &u_dot[i] / &four_k[i])),
+            })
+        });
+        let turns = turns.filter(|c: &[TurnConstants; 2]| {
+            c.iter()
+                .all(|c| c.start.iter().chain(&c.rate).all(|x| x.is_finite()))
+        });
         Self {
             bits,
             u0,
@@ -114,7 +134,14 @@ impl PhaseClock {
             four_k,
             fast,
             exact,
+            turns,
         }
+    }
+
+    /// The constants of the phases in turns ([`turns_at`]), when the clock has expansions.
+    #[inline(always)]
+    pub(super) fn turns(&self) -> Option<&[TurnConstants; 2]> {
+        self.turns.as_ref()
     }
 
     /// Bits of the MPFR constants.
@@ -242,6 +269,41 @@ fn reduce(c: &FastConstants, t: f64) -> Option<(f64, f64)> {
             n += 1.0;
         } else {
             return Some((acc.0, lo));
+        }
+    }
+    None
+}
+
+/// The phase in turns φ₀ + φ̇t − n ∈ [0, 1) at an f64 time as a double-double (`None` for t
+/// not finite or beyond [`F64_CLOCK_MAX_T`], or an n not settled in three tries: the caller
+/// then reduces u in the clock's other ways). As [`reduce`] with a period of 1: φ̇t from
+/// error-free products, n an integer (no product n·4K), the pieces added in double-double
+/// from large to small. Error a few units of 2⁻¹⁰⁶ plus 2⁻¹⁵⁹·|φ̇t| (the constants' dropped
+/// bits); sin and cos of 2πφ need no reduction by π then ([`DoubleDouble::sin_cos_turns`]).
+#[inline(always)]
+pub(super) fn turns_at(c: &TurnConstants, t: f64) -> Option<DoubleDouble> {
+    if t.is_nan() || t.abs() > F64_CLOCK_MAX_T {
+        return None;
+    }
+    let [fh, fm, fl] = c.rate;
+    let [oh, om, ol] = c.start;
+    let (p1, e1) = two_prod(fh, t);
+    let (p2, e2) = two_prod(fm, t);
+    let tail = (e2 + fl * t) + ol;
+    let mut n = (p1 + oh).floor();
+    for _ in 0..3 {
+        let mut acc = two_sum(p1, -n);
+        for x in [oh, p2, e1, om] {
+            acc = dd_add(acc, x);
+        }
+        let lo = acc.1 + tail;
+        let r = acc.0 + lo;
+        if r < 0.0 {
+            n -= 1.0;
+        } else if r >= 1.0 {
+            n += 1.0;
+        } else {
+            return Some(DoubleDouble::new(acc.0, lo));
         }
     }
     None

@@ -13,6 +13,12 @@ use rug::Float;
 
 use super::{DoubleDouble, LN2, MPFR_BITS, PI, SERIES_CUTOFF};
 
+/// 2π to 106 bits (π's parts doubled, exactly).
+const TWO_PI: DoubleDouble = DoubleDouble {
+    hi: 2.0 * PI[0],
+    lo: 2.0 * PI[1],
+};
+
 impl DoubleDouble {
     /// (sin t, cos t) for |t| ≤ π/32, rotated by kπ/16 (|k| ≤ 4): sin t and cos t by their
     /// Taylor polynomials to t¹⁹ and t¹⁸ (Horner in t², coefficients 1/n! to 106 bits, the terms
@@ -69,6 +75,13 @@ impl DoubleDouble {
         let t = *self - Self::prod_f64(n, PI[0] / 16.0);
         let t = t - Self::prod_f64(n, PI[1] / 16.0);
         let t = t - Self::from_f64_exact(n * (PI[2] / 16.0));
+        Self::sin_cos_sixteenths(t, n)
+    }
+
+    /// (sin, cos) of nπ/16 + t for |t| ≤ π/32: n = 8j + k with |k| ≤ 4, the quadrant j by
+    /// symmetry.
+    #[inline(always)]
+    fn sin_cos_sixteenths(t: Self, n: f64) -> (Self, Self) {
         let j = (n / 8.0).round();
         let (s, c) = Self::sin_cos_reduced(t, n - 8.0 * j);
         match (j.rem_euclid(4.0)) as u32 {
@@ -77,6 +90,21 @@ impl DoubleDouble {
             2 => (-s, -c),
             _ => (-c, s),
         }
+    }
+
+    /// (sin 2πx, cos 2πx) for x in turns: x = n/32 + r with n = round(32x) and |r| ≤ 1/64
+    /// exactly (x.hi − n/32 is exact: both are multiples of x.hi's ulp, Sterbenz), t = 2π·r
+    /// by one product (|t| ≤ π/32, relative error a few units of 2⁻¹⁰⁶), then as
+    /// [`Self::sin_cos`]. No multiple of π is subtracted: for an angle known in turns (a phase
+    /// reduced modulo its period) this replaces the three-part reduction by one product.
+    #[inline(always)]
+    pub fn sin_cos_turns(&self) -> (Self, Self) {
+        if !self.hi.is_finite() {
+            return (Self::nan(), Self::nan());
+        }
+        let n = (self.hi * 32.0).round();
+        let r = Self::sum_f64(self.hi - n / 32.0, self.lo);
+        Self::sin_cos_sixteenths(r * TWO_PI, n)
     }
 
     /// √x by Karp's step from the f64 reciprocal square root.

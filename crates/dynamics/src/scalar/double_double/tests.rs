@@ -220,3 +220,31 @@ fn accuracy_check_rejects_f64_arithmetic() {
     );
     assert!(err > 1e-20, "f64 sine passed as 106-bit: {err:e}");
 }
+
+/// sin and cos of an angle in turns (2πx) are accurate relative to each value, also where it
+/// is near 0: x tiny, and x within 2⁻⁶⁰ of a quarter turn (x − k/4 is exact, so the result
+/// keeps its relative accuracy), over several turns of either sign.
+#[test]
+fn sin_cos_in_turns_is_accurate_relative_to_each_value() {
+    let mut rng = ChaCha8Rng::seed_from_u64(19);
+    let two_pi = Float::with_val(REF_BITS, rug::float::Constant::Pi) * 2u32;
+    let (mut worst_s, mut worst_c) = (0f64, 0f64);
+    for k in 0..SAMPLES {
+        let x = match k % 3 {
+            0 => random_dd(&mut rng, -40.0, 1.6, true),
+            1 => random_dd(&mut rng, -60.0, -20.0, true)
+                .add_f64(f64::from(rng.gen_range(-12..12)) / 4.0),
+            _ => Dd::new(rng.gen_range(-3.0..3.0), rng.gen_range(-1e-17..1e-17)),
+        };
+        let angle = Float::with_val(REF_BITS, &two_pi * &x.to_float(REF_BITS));
+        let (s, c) = x.sin_cos_turns();
+        worst_s = worst_s.max(rel_err(&s, &angle.clone().sin()));
+        worst_c = worst_c.max(rel_err(&c, &angle.cos()));
+    }
+    assert!(
+        worst_s < TOL && worst_c < TOL,
+        "sin {worst_s:e}, cos {worst_c:e}"
+    );
+    let (s, c) = Dd::from_f64_exact(f64::NAN).sin_cos_turns();
+    assert!(s.hi.is_nan() && c.hi.is_nan());
+}
