@@ -219,6 +219,11 @@ impl<T: Real> Projector<T> {
             }
             previous = size;
         }
+        // In f64 the shift is final: a sample beyond the bound needs no nearest point.
+        let within64 = x64.dm.abs() <= bound && x64.dh.abs() <= bound;
+        if !high && !within64 {
+            return None;
+        }
         let lift = |v: f64| target[0].lit(v);
         let mut x = Unknowns {
             psi: x64.psi.map(lift),
