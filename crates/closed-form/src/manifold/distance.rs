@@ -192,8 +192,16 @@ fn fields_f64<T: Real>(fields: &Fields<T>) -> Fields<f64> {
 /// ulps of itself, being |J|₂); only the small singular values need the SVD of [`stretches`].
 pub fn gain(fields: &Fields<f64>, s: &State<f64>) -> f64 {
     let j = constraint_derivative(fields, s);
-    let gram: [[f64; 6]; 6] =
-        std::array::from_fn(|p| std::array::from_fn(|q| (0..DIM).map(|k| j[k][p] * j[k][q]).sum()));
+    // The lower triangle only: the eigenvalue reads no other.
+    let gram: [[f64; 6]; 6] = std::array::from_fn(|p| {
+        std::array::from_fn(|q| {
+            if q <= p {
+                (0..DIM).map(|k| j[k][p] * j[k][q]).sum()
+            } else {
+                0.0
+            }
+        })
+    });
     largest_eigenvalue_psd(gram).max(0.0).sqrt()
 }
 

@@ -33,10 +33,12 @@ impl LeastSquares {
     /// The elimination for the columns, or `None` when JᵀJ is singular.
     #[allow(clippy::needless_range_loop)] // the index ranges are the elimination's
     pub(crate) fn new(columns: &[[f64; DIM]; 4]) -> Option<Self> {
+        // Symmetric (uₖvₖ = vₖuₖ in floating point): the upper triangle mirrored.
         let mut a = [[0.0; 4]; 4];
         for i in 0..4 {
-            for j in 0..4 {
+            for j in i..4 {
                 a[i][j] = dot(&columns[i], &columns[j]);
+                a[j][i] = a[i][j];
             }
         }
         let mut pivots = [0; 4];
