@@ -22,7 +22,7 @@ use rsts_dynamics::vec3::cross;
 use rsts_dynamics::{Fields, Real, State};
 
 use crate::manifold::phi_field::{phi_field_derivative, phi_gradient};
-use crate::manifold::spectral::largest_eigenvalue_psd;
+use crate::manifold::spectral::largest_eigenvalue;
 
 /// A function on the phase space, written once over any scalar (so it can be differentiated).
 pub trait PhaseFunction {
@@ -188,7 +188,7 @@ fn fields_f64<T: Real>(fields: &Fields<T>) -> Fields<f64> {
 
 /// The gain g(x) of [`DistanceFromN`] (f64: it only scales the distance): the square root of
 /// the largest eigenvalue of the 6×6 Gram matrix JᵀJ of the derivative J of X_Φ along the
-/// constraint surface ([`largest_eigenvalue_psd`]). The eigenvalue is accurate to a few ulps of |J|² (so the gain to a few
+/// constraint surface ([`largest_eigenvalue`]). The eigenvalue is accurate to a few ulps of |J|² (so the gain to a few
 /// ulps of itself, being |J|₂); only the small singular values need the SVD of [`stretches`].
 pub fn gain(fields: &Fields<f64>, s: &State<f64>) -> f64 {
     let j = constraint_derivative(fields, s);
@@ -202,7 +202,7 @@ pub fn gain(fields: &Fields<f64>, s: &State<f64>) -> f64 {
             }
         })
     });
-    largest_eigenvalue_psd(gram).max(0.0).sqrt()
+    largest_eigenvalue(gram).max(0.0).sqrt()
 }
 
 /// The derivative J (9×6) of X_Φ along six orthonormal directions of the constraint surface

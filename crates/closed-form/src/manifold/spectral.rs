@@ -8,19 +8,8 @@
 //! stable, so the root is found to a few ulps of the norm.
 
 /// The largest eigenvalue of the symmetric N×N matrix `a` (its upper triangle is ignored).
-pub fn largest_eigenvalue<const N: usize>(a: [[f64; N]; N]) -> f64 {
-    largest_root(a, false)
-}
-
-/// [`largest_eigenvalue`] of a positive semi-definite matrix (a Gram matrix JᵀJ): Newton starts
-/// from the smaller of Gershgorin's bound and the trace (≥ the largest of the non-negative
-/// eigenvalues; on N, where J has rank two, within a factor two of it), fewer steps to the root.
-pub fn largest_eigenvalue_psd<const N: usize>(a: [[f64; N]; N]) -> f64 {
-    largest_root(a, true)
-}
-
 #[allow(clippy::needless_range_loop)] // the index ranges are the algorithm's
-fn largest_root<const N: usize>(mut a: [[f64; N]; N], psd: bool) -> f64 {
+pub fn largest_eigenvalue<const N: usize>(mut a: [[f64; N]; N]) -> f64 {
     // Householder: zero column k below the subdiagonal, A ← HAH on the trailing block.
     for k in 0..N.saturating_sub(2) {
         let norm = (k + 1..N).map(|i| a[i][k] * a[i][k]).sum::<f64>().sqrt();
@@ -57,17 +46,9 @@ fn largest_root<const N: usize>(mut a: [[f64; N]; N], psd: bool) -> f64 {
     let d: [f64; N] = std::array::from_fn(|i| a[i][i]);
     let e: [f64; N] = std::array::from_fn(|i| if i + 1 < N { a[i + 1][i] } else { 0.0 });
     // Gershgorin's upper bound, and the scale that keeps det(T − x) within range.
-    let gershgorin = (0..N)
+    let bound = (0..N)
         .map(|i| d[i] + e[i].abs() + if i > 0 { e[i - 1].abs() } else { 0.0 })
         .fold(f64::NEG_INFINITY, f64::max);
-    // The trace (T's, equal to the matrix's to a few ulps: widened by 8N ulps) bounds the
-    // largest eigenvalue of a positive semi-definite matrix.
-    let trace = d.iter().sum::<f64>() * (1.0 + 8.0 * N as f64 * f64::EPSILON);
-    let bound = if psd {
-        gershgorin.min(trace)
-    } else {
-        gershgorin
-    };
     let scale = (0..N).map(|i| d[i].abs() + e[i].abs()).fold(0.0, f64::max);
     if scale == 0.0 || !scale.is_finite() {
         return if scale == 0.0 { 0.0 } else { f64::NAN };
@@ -110,8 +91,7 @@ mod tests {
     use super::*;
 
     /// Against nalgebra's symmetric eigenvalues: random Gram matrices (rank 2 to 6, spread
-    /// spectra; from Gershgorin's bound and from the trace), a double largest eigenvalue and
-    /// diagonal ones, to a few ulps of the largest.
+    /// spectra), a double largest eigenvalue and diagonal ones, to a few ulps of the largest.
     #[test]
     fn largest_eigenvalue_of_gram_matrices() {
         let mut seed = 0x2028_u64;
@@ -121,7 +101,7 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             ((seed >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
         };
-        let (mut worst, mut worst_psd) = (0.0f64, 0.0f64);
+        let mut worst = 0.0f64;
         for case in 0..3000 {
             let rank = 2 + case % 5;
             let weights: [f64; 6] =
@@ -145,13 +125,8 @@ mod tests {
             let m = nalgebra::SMatrix::<f64, 6, 6>::from_fn(|p, q| g[p][q]);
             let exact = m.symmetric_eigenvalues().max();
             worst = worst.max((largest_eigenvalue(g) - exact).abs() / exact);
-            worst_psd = worst_psd.max((largest_eigenvalue_psd(g) - exact).abs() / exact);
         }
         assert!(worst < 32.0 * f64::EPSILON, "relative error {worst:e}");
-        assert!(
-            worst_psd < 32.0 * f64::EPSILON,
-            "from the trace: {worst_psd:e}"
-        );
         // A double largest eigenvalue, and a diagonal matrix (no reduction needed).
         let double = [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]];
         assert!((largest_eigenvalue(double) - 2.0).abs() < 1e-15);
