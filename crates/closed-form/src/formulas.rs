@@ -23,6 +23,20 @@ pub struct FormulaConstants<S> {
     pub pmh: S,
 }
 
+impl<S> FormulaConstants<S> {
+    /// The same constants in another scalar (each number mapped by `g`).
+    pub(crate) fn map<U>(&self, g: impl Fn(&S) -> U) -> FormulaConstants<U> {
+        FormulaConstants {
+            a: g(&self.a),
+            b: g(&self.b),
+            m: g(&self.m),
+            ell: g(&self.ell),
+            r: g(&self.r),
+            pmh: g(&self.pmh),
+        }
+    }
+}
+
 /// The products of the constants that every point uses (a², b², ab, 2m, 4m, 2ℓ, 2(p²m + h)),
 /// formed once per motion ([`body_state_with`]): the numbers each point formed before, so the
 /// state is the same bit for bit.

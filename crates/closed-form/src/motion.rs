@@ -290,15 +290,7 @@ impl<T: Scalar> ExplicitMotion<T> {
         let p1 = point(&self.first, &u1);
         let p2 = point(&self.second, &u2);
         let f = &self.formula;
-        let lift = |x: &T| Dual::constant(x.clone());
-        let fc = FormulaConstants {
-            a: lift(&f.a),
-            b: lift(&f.b),
-            m: lift(&f.m),
-            ell: lift(&f.ell),
-            r: lift(&f.r),
-            pmh: lift(&f.pmh),
-        };
+        let fc = f.map(|x| Dual::constant(x.clone()));
         explicit_state(&fc, SeparatedCoordinates::new(p1, p2))
     }
 }

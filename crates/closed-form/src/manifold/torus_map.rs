@@ -77,7 +77,7 @@ impl<T: Real> TorusMap<T> {
             let (sn, cn, dn) = v.modulus.sn_cn_dn(&(psi[i].clone() * &du));
             (sn, cn, dn, du)
         });
-        let fc = map_formula(&self.formula, |x| Dual::constant(x.clone()));
+        let fc = self.formula.map(|x| Dual::constant(x.clone()));
         let column = |k: usize| -> [Dual<T>; DIM] {
             let points: [SeparatedPoint<Dual<T>>; 2] = std::array::from_fn(|i| {
                 let (sn, cn, dn, du) = &parts[i];
@@ -179,21 +179,6 @@ pub(crate) fn formula_constants<T: Real>(c: &IntegralConstants<T>) -> FormulaCon
         ell: c.ell.clone(),
         r: c.r.clone(),
         pmh: c.pmh.clone(),
-    }
-}
-
-/// The formula constants mapped into another scalar.
-pub(crate) fn map_formula<S, U>(
-    f: &FormulaConstants<S>,
-    g: impl Fn(&S) -> U,
-) -> FormulaConstants<U> {
-    FormulaConstants {
-        a: g(&f.a),
-        b: g(&f.b),
-        m: g(&f.m),
-        ell: g(&f.ell),
-        r: g(&f.r),
-        pmh: g(&f.pmh),
     }
 }
 

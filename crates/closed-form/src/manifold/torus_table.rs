@@ -22,7 +22,7 @@ use rsts_dynamics::state::DIM;
 use rsts_dynamics::Real;
 
 use crate::formulas::{body_state, BodyState, FormulaConstants, SeparatedCoordinates};
-use crate::manifold::torus_map::{map_formula, TorusMap};
+use crate::manifold::torus_map::TorusMap;
 use crate::separated::SeparatedPoint;
 
 /// Degree of the polynomial on a cell.
@@ -255,11 +255,11 @@ impl TorusTable {
         };
         let curves = [curve(0)?, curve(1)?];
         let f = in_mh.formula();
-        let formula = map_formula(f, |x| Jet {
+        let formula = f.map(|x| Jet {
             re: x.re,
             eps: [0.0, 0.0, x.eps[0], x.eps[1]],
         });
-        let plain = map_formula(f, |x| x.re);
+        let plain = f.map(|x| x.re);
         Some(Self {
             curves,
             formula,
