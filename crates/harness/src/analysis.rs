@@ -86,6 +86,12 @@ pub struct Analysis {
 /// Samples evaluated in parallel between two rounds of recording (memory: ~2 kB each).
 const BATCH: usize = 4096;
 
+/// f64 samples of a batch evaluated one after another by one thread: the samples of a chunk
+/// may share work (a warm start from the sample before, several samples at once). The chunks
+/// are fixed by the samples' places in the batch (and the batches by their places in the run),
+/// so the report does not depend on the number of threads. (MPFR samples: chunks of one.)
+pub(crate) const CHUNK: usize = 64;
+
 /// A sample evaluated apart from the samples before it (the parallel part of
 /// [`Analysis::sample`]).
 struct Evaluated {
@@ -289,25 +295,35 @@ impl Analysis {
         states: &[State<Float>],
         observer: &mut dyn Observer,
     ) -> Result<Option<SampleErrors>, HarnessError> {
-        self.in_batches(times, states, observer, Self::evaluate, |t, s| {
-            (t.to_f64(), Some((t, s)))
-        })
+        self.in_batches(
+            times,
+            states,
+            observer,
+            |me, ts, ss, wanted, out| {
+                out.extend(ts.iter().zip(ss).map(|(t, s)| me.evaluate(t, s, wanted)));
+            },
+            |t, s| (t.to_f64(), Some((t, s))),
+            1,
+        )
     }
 
     /// The batch loop of [`Analysis::sample_all`] and [`Analysis::sample_all_f64`]: each batch
-    /// evaluated in parallel (`evaluate(self, t, state, snapshots)`), then recorded in time
-    /// order (`place`: the sample's time in f64 and, for MPFR samples, the sample itself).
+    /// evaluated in parallel, `chunk` samples at a time (`evaluate(self, times, states,
+    /// snapshots, out)` appends one [`Evaluated`] per sample to `out`, in order), then recorded
+    /// in time order (`place`: the sample's time in f64 and, for MPFR samples, the sample
+    /// itself).
     fn in_batches<T: Sync, S: Sync>(
         &mut self,
         times: &[T],
         states: &[S],
         observer: &mut dyn Observer,
-        evaluate: impl Fn(&Self, &T, &S, bool) -> Evaluated + Sync,
+        evaluate: impl Fn(&Self, &[T], &[S], bool, &mut Vec<Evaluated>) + Sync,
         place: impl for<'a> Fn(&'a T, &'a S) -> (f64, Option<(&'a Float, &'a State<Float>)>),
+        chunk: usize,
     ) -> Result<Option<SampleErrors>, HarnessError> {
         let mut first = None;
-        // One buffer for every batch (no allocation per batch).
-        let mut evaluated: Vec<Evaluated> = Vec::new();
+        // One buffer per chunk, kept for every batch (no allocation per batch).
+        let mut evaluated: Vec<Vec<Evaluated>> = Vec::new();
         for (tc, sc) in times.chunks(BATCH).zip(states.chunks(BATCH)) {
             if observer.should_stop() {
                 self.mark_incomplete();
@@ -315,11 +331,17 @@ impl Analysis {
             }
             let me = &*self;
             let wanted = observer.wants_states();
-            tc.par_iter()
-                .zip(sc)
-                .map(|(t, s)| evaluate(me, t, s, wanted))
-                .collect_into_vec(&mut evaluated);
-            for ((t, s), ev) in tc.iter().zip(sc).zip(evaluated.drain(..)) {
+            let chunks = tc.len().div_ceil(chunk);
+            evaluated.resize_with(chunks, Vec::new);
+            evaluated[..chunks]
+                .par_iter_mut()
+                .zip(tc.par_chunks(chunk).zip(sc.par_chunks(chunk)))
+                .for_each(|(out, (t, s))| {
+                    out.clear();
+                    evaluate(me, t, s, wanted, out);
+                });
+            let all = evaluated[..chunks].iter_mut().flat_map(|c| c.drain(..));
+            for ((t, s), ev) in tc.iter().zip(sc).zip(all) {
                 if observer.should_stop() {
                     self.mark_incomplete();
                     self.update_digits();

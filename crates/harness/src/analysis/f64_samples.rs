@@ -48,13 +48,18 @@ impl Analysis {
             times,
             states,
             observer,
-            |me, t, x, wanted| {
+            |me, ts, xs, wanted, out| {
                 let (Some(dd), Some(m)) = (me.dd.as_ref(), me.dd_measure.as_ref()) else {
                     unreachable!("checked above")
                 };
-                me.evaluate_f64(dd, m, *t, x, wanted)
+                out.extend(
+                    ts.iter()
+                        .zip(xs)
+                        .map(|(t, x)| me.evaluate_f64(dd, m, *t, x, wanted)),
+                );
             },
             |t, _| (*t, None),
+            super::CHUNK,
         )
     }
 
