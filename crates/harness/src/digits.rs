@@ -84,8 +84,13 @@ pub(crate) fn of_differences(
     y: &[DoubleDouble; 9],
     ratio: f64,
 ) -> (f64, f64) {
-    let size = y.map(|y| y.abs());
-    let scale = size.map(|s| s.add_f64(ratio));
+    // Plain loops, no closure handed to a library function (compiled with the caller's FMA).
+    let mut size = [DoubleDouble::ZERO; 9];
+    let mut scale = [DoubleDouble::ZERO; 9];
+    for k in 0..9 {
+        size[k] = y[k].abs();
+        scale[k] = size[k].add_f64(ratio);
+    }
     // Relative errors of 0 size have no scale: left out.
     let relative = largest_quotient(d, &size, |k| size[k].to_f64() != 0.0);
     let mixed = largest_quotient(d, &scale, |_| true);
@@ -102,16 +107,24 @@ fn largest_quotient(
     s: &[DoubleDouble; 9],
     counted: impl Fn(usize) -> bool,
 ) -> f64 {
-    let estimate: [f64; 9] = std::array::from_fn(|k| d[k].hi / s[k].hi);
-    let top = (0..9)
-        .filter(|&k| counted(k))
-        .fold(0.0f64, |m, k| m.max(estimate[k]));
+    let mut estimate = [0.0f64; 9];
+    let mut top = 0.0f64;
+    for k in 0..9 {
+        estimate[k] = d[k].hi / s[k].hi;
+        if counted(k) {
+            top = top.max(estimate[k]);
+        }
+    }
     // Near the underflow or for a non-finite quotient the estimate is not trusted.
     let trusted = top.is_finite() && top > 1e-280;
     let floor = top * (1.0 - 2f64.powi(-48));
-    (0..9)
-        .filter(|&k| counted(k) && (!trusted || estimate[k] >= floor))
-        .fold(0.0f64, |m, k| m.max((d[k] / s[k]).to_f64()))
+    let mut largest = 0.0f64;
+    for k in 0..9 {
+        if counted(k) && (!trusted || estimate[k] >= floor) {
+            largest = largest.max((d[k] / s[k]).to_f64());
+        }
+    }
+    largest
 }
 
 /// −log10 of an error: +∞ for no error.

@@ -24,6 +24,9 @@ type Dd = DoubleDouble;
 
 /// Everything measured of f64 data `x` (ω, α, β) against the exact state `exact`: the errors
 /// and the nine differences |xₖ − x̃ₖ| of the correct digits ([`crate::digits::of_differences`]).
+/// Plain loops and `#[inline(always)]` helpers throughout, no closure handed to a library
+/// function: under the caller's `#[target_feature(enable = "fma")]` every `mul_add` is then
+/// one instruction (a closure compiled apart would call the library's `fma`).
 #[inline(always)]
 pub(crate) fn f64_sample_errors(
     fields: &Fields<Dd>,
@@ -32,10 +35,15 @@ pub(crate) fn f64_sample_errors(
     exact: &State<Dd>,
     x: &[f64; 9],
 ) -> (SampleErrors, [Dd; 9]) {
-    let y = exact.to_array();
-    let delta: [Dd; 9] = std::array::from_fn(|k| Dd::from_f64_exact(x[k]) - y[k]);
-    let d = delta.map(|v| v.abs());
-    let state_error = d.iter().fold(Dd::ZERO, |a, b| a.max_of(*b));
+    let y = state_array(exact);
+    let mut delta = [Dd::ZERO; 9];
+    let mut d = [Dd::ZERO; 9];
+    let mut state_error = Dd::ZERO;
+    for k in 0..9 {
+        delta[k] = Dd::from_f64_exact(x[k]) - y[k];
+        d[k] = delta[k].abs();
+        state_error = state_error.max_of(d[k]);
+    }
     let [h, k, g] = integrals_f64(fields, x);
     let two = Dd::from_f64_exact(2.0);
     let off_k = (k - n.k).abs();
@@ -54,6 +62,31 @@ pub(crate) fn f64_sample_errors(
         phase_error: [f64::NAN; 2],
     };
     (errors, d)
+}
+
+/// The state as a phase vector ([`State::to_array`] without its closure).
+#[inline(always)]
+pub(crate) fn state_array(s: &State<Dd>) -> [Dd; 9] {
+    let (w, a, b) = (&s.omega, &s.alpha, &s.beta);
+    [w[0], w[1], w[2], a[0], a[1], a[2], b[0], b[1], b[2]]
+}
+
+/// v/2, exactly.
+#[inline(always)]
+fn half(v: Dd) -> Dd {
+    Dd {
+        hi: v.hi * 0.5,
+        lo: v.lo * 0.5,
+    }
+}
+
+/// v/4, exactly.
+#[inline(always)]
+fn quarter(v: Dd) -> Dd {
+    Dd {
+        hi: v.hi * 0.25,
+        lo: v.lo * 0.25,
+    }
 }
 
 /// u·v, exactly (a double-double).
@@ -89,13 +122,16 @@ fn dot_f64(u: &[f64], v: &[f64]) -> Dd {
 pub(crate) fn integrals_f64(f: &Fields<Dd>, x: &[f64; 9]) -> [Dd; 3] {
     let (w1, w2, w3) = (x[0], x[1], x[2]);
     let (alpha, beta) = (&x[3..6], &x[6..9]);
-    let big_a: [Dd; 3] = std::array::from_fn(|i| f.a.mul_f64(alpha[i]));
-    let big_b: [Dd; 3] = std::array::from_fn(|i| f.b.mul_f64(beta[i]));
-    // Halving and quartering are exact.
-    let half = |v: Dd| Dd {
-        hi: v.hi * 0.5,
-        lo: v.lo * 0.5,
-    };
+    let big_a = [
+        f.a.mul_f64(alpha[0]),
+        f.a.mul_f64(alpha[1]),
+        f.a.mul_f64(alpha[2]),
+    ];
+    let big_b = [
+        f.b.mul_f64(beta[0]),
+        f.b.mul_f64(beta[1]),
+        f.b.mul_f64(beta[2]),
+    ];
     let (w1s, w2s) = (prod(w1, w1), prod(w2, w2));
     let h = w1s + w2s + half(prod(w3, w3)) - (big_a[0] + big_b[1]);
     let kx = w1s - w2s + big_a[0] - big_b[1];
@@ -105,10 +141,6 @@ pub(crate) fn integrals_f64(f: &Fields<Dd>, x: &[f64; 9]) -> [Dd; 3] {
     let ma = dot_f64_dd(&m, &big_a);
     let mb = dot_f64_dd(&m, &big_b);
     let mab = dot_f64_dd(&m, &cross_dd(&big_a, &big_b));
-    let quarter = |v: Dd| Dd {
-        hi: v.hi * 0.25,
-        lo: v.lo * 0.25,
-    };
     let g = quarter(ma.sqr() + mb.sqr()) + half(mab.mul_f64(w3))
         - f.b.sqr() * big_a[0]
         - f.a.sqr() * big_b[1];
@@ -173,40 +205,37 @@ fn orientation_error(x: &[f64; 9], exact: &State<Dd>, delta: &[Dd; 9]) -> Dd {
     let (a, b) = (&exact.alpha, &exact.beta);
     let (da, db) = (&delta[3..6], &delta[6..9]);
     let beta = [f(x[6]), f(x[7]), f(x[8])];
-    let cyc = |k: usize| ((k + 1) % 3, (k + 2) % 3);
-    // γ̃ = α̃×β̃ and Δγ = α×β − α̃×β̃ = Δα×β + α̃×Δβ.
-    let c: [Dd; 3] = std::array::from_fn(|k| {
-        let (i, j) = cyc(k);
-        ProductSum::ZERO.add(a[i], b[j]).sub(a[j], b[i]).value()
-    });
-    let dc: [Dd; 3] = std::array::from_fn(|k| {
-        let (i, j) = cyc(k);
+    // γ̃ = α̃×β̃ and Δγ = α×β − α̃×β̃ = Δα×β + α̃×Δβ (k, i, j cyclic).
+    let mut c = [Dd::ZERO; 3];
+    let mut dc = [Dd::ZERO; 3];
+    for k in 0..3 {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        c[k] = ProductSum::ZERO.add(a[i], b[j]).sub(a[j], b[i]).value();
         let sum = ProductSum::ZERO.add(da[i], beta[j]).sub(da[j], beta[i]);
-        sum.add(a[i], db[j]).sub(a[j], db[i]).value()
-    });
+        dc[k] = sum.add(a[i], db[j]).sub(a[j], db[i]).value();
+    }
     let q = [a, b, &c];
     let dq = [da, db, &dc[..]];
     // The skew part s_k = R_ji − R_ij (k, i, j cyclic), R_ij − δ_ij = Δq_i·q̃_j.
-    let s: [Dd; 3] = std::array::from_fn(|k| {
-        let (i, j) = cyc(k);
-        (0..3)
-            .fold(ProductSum::ZERO, |sum, l| {
-                sum.add(dq[j][l], q[i][l]).sub(dq[i][l], q[j][l])
-            })
-            .value()
-    });
-    let trace = (0..9)
-        .fold(ProductSum::ZERO, |sum, n| {
-            sum.add(dq[n / 3][n % 3], q[n / 3][n % 3])
-        })
-        .value();
-    let norm2 = (0..3).fold(ProductSum::ZERO, |sum, k| sum.add(s[k], s[k]));
-    let half = |v: Dd| Dd {
-        hi: v.hi * 0.5,
-        lo: v.lo * 0.5,
-    };
+    let mut s = [Dd::ZERO; 3];
+    for (k, sk) in s.iter_mut().enumerate() {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let mut sum = ProductSum::ZERO;
+        for l in 0..3 {
+            sum = sum.add(dq[j][l], q[i][l]).sub(dq[i][l], q[j][l]);
+        }
+        *sk = sum.value();
+    }
+    let mut trace = ProductSum::ZERO;
+    for n in 0..9 {
+        trace = trace.add(dq[n / 3][n % 3], q[n / 3][n % 3]);
+    }
+    let mut norm2 = ProductSum::ZERO;
+    for v in s {
+        norm2 = norm2.add(v, v);
+    }
     let sin = half(norm2.value().sqrt());
-    let cos = Dd::ONE + half(trace);
+    let cos = Dd::ONE + half(trace.value());
     small_angle(sin, cos)
 }
 
