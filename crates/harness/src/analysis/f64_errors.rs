@@ -241,7 +241,7 @@ fn orientation_error(x: &[f64; 9], exact: &State<Dd>, delta: &[Dd; 9]) -> Dd {
 
 /// atan2(sin, cos) for sin ≥ 0: for tan θ = z < 2⁻¹⁴ the series z − z³/3 + z⁵/5 − z⁷/7 + z⁹/9
 /// (z³/3 in double-double; the rest, below 2⁻⁵⁶ z, in f64 from z.hi; the next term is below
-/// 2⁻¹⁴⁰ z), otherwise the double-double arctangent.
+/// 2⁻¹⁴⁰ z), otherwise by a table and a short series ([`arctangent::arctangent`]).
 #[inline(always)]
 pub(crate) fn small_angle(sin: Dd, cos: Dd) -> Dd {
     const LIMIT: f64 = 6.103515625e-5; // 2⁻¹⁴
@@ -255,9 +255,11 @@ pub(crate) fn small_angle(sin: Dd, cos: Dd) -> Dd {
         let tail = z.hi * w.hi * w.hi * (0.2 - w.hi * (1.0 / 7.0 - w.hi / 9.0));
         (z - z * w * THIRD).add_f64(tail)
     } else {
-        sin.atan2(&cos)
+        arctangent::arctangent(sin, cos)
     }
 }
+
+mod arctangent;
 
 #[cfg(test)]
 mod tests;
