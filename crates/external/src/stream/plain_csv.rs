@@ -50,9 +50,8 @@ pub(super) fn plain_row(bytes: &[u8], layout: &Layout, row: &mut Row) -> Option<
             if c == 0 {
                 row.t = x;
                 row.t_text.clear();
-                // ASCII: read by plain_value.
-                row.t_text
-                    .push_str(std::str::from_utf8(&bytes[start..p]).ok()?);
+                // SAFETY: the bytes of a value plain_value read.
+                row.t_text.push_str(unsafe { ascii(&bytes[start..p]) });
             } else {
                 if x.abs() > max {
                     return None;
@@ -177,9 +176,22 @@ fn plain_value(s: &[u8]) -> Option<(f64, usize, usize)> {
             x
         }
     } else {
-        std::str::from_utf8(&s[..i]).ok()?.parse().ok()?
+        // SAFETY: the bytes read above.
+        unsafe { ascii(&s[..i]) }.parse().ok()?
     };
     x.is_finite().then_some((x, significant, i))
+}
+
+/// The text of a value [`plain_value`] read, without a second pass over its bytes to check
+/// their encoding.
+///
+/// # Safety
+/// `value` is ASCII (as the bytes of a value read by `plain_value` are: its signs, digits,
+/// point and exponent letter are matched byte by byte), hence UTF-8.
+unsafe fn ascii(value: &[u8]) -> &str {
+    debug_assert!(value.is_ascii());
+    // SAFETY: ASCII, by the caller's contract.
+    unsafe { std::str::from_utf8_unchecked(value) }
 }
 
 #[cfg(test)]
