@@ -81,6 +81,11 @@ pub struct Analysis {
     dd: Option<DdReference>,
     /// The constants of the measurement in double-double (with `dd`).
     dd_measure: Option<DdMeasure>,
+    /// The record of the last sample, handed to the observer: kept from sample to sample, so
+    /// that only what changes is written (no copy of NaN states per sample).
+    last: SampleRecord,
+    /// Whether `last` holds states (else they are NaN).
+    last_has_states: bool,
 }
 
 /// Samples evaluated in parallel between two rounds of recording (memory: ~2 kB each).
@@ -167,6 +172,14 @@ impl Analysis {
             geometry,
             dd: None,
             dd_measure: None,
+            last: SampleRecord {
+                index: 0,
+                t: f64::NAN,
+                exact: StateSnapshot::NAN,
+                integrated: StateSnapshot::NAN,
+                errors: SampleErrors::default(),
+            },
+            last_has_states: false,
         }
     }
 
@@ -280,9 +293,9 @@ impl Analysis {
         observer: &mut dyn Observer,
     ) -> Result<SampleErrors, HarnessError> {
         let evaluated = self.evaluate(t, state, observer.wants_states());
-        let errors = self.record(t.to_f64(), Some((t, state)), evaluated, observer);
+        let recorded = self.record(t.to_f64(), Some((t, state)), &evaluated, observer);
         self.update_digits();
-        errors
+        recorded.map(|()| self.last.errors)
     }
 
     /// Analyse samples in time order as [`Analysis::sample`] does one by one, evaluating them
@@ -340,7 +353,8 @@ impl Analysis {
                     out.clear();
                     evaluate(me, t, s, wanted, out);
                 });
-            let all = evaluated[..chunks].iter_mut().flat_map(|c| c.drain(..));
+            // Recorded from where they were evaluated (not moved out).
+            let all = evaluated[..chunks].iter().flatten();
             for ((t, s), ev) in tc.iter().zip(sc).zip(all) {
                 if observer.should_stop() {
                     self.mark_incomplete();
@@ -348,8 +362,8 @@ impl Analysis {
                     return Ok(first);
                 }
                 let (time, sample) = place(t, s);
-                let e = self.record(time, sample, ev, observer)?;
-                first.get_or_insert(e);
+                self.record(time, sample, ev, observer)?;
+                first.get_or_insert(self.last.errors);
             }
         }
         self.update_digits();
@@ -393,30 +407,24 @@ impl Analysis {
     }
 
     /// Add an evaluated sample (the next in time order, at time `t`; `mpfr`: its time and
-    /// state at the reference precision, for the MPFR geometry) to the report and the observer.
+    /// state at the reference precision, for the MPFR geometry) to the report and the observer
+    /// (the record handed to it is kept in `last`).
     fn record(
         &mut self,
         t: f64,
         mpfr: Option<(&Float, &State<Float>)>,
-        evaluated: Evaluated,
+        evaluated: &Evaluated,
         observer: &mut dyn Observer,
-    ) -> Result<SampleErrors, HarnessError> {
-        let Evaluated {
-            exact,
-            mut errors,
-            digits,
-            snapshots,
-            geometry,
-        } = evaluated;
-        let [ex, int] = snapshots.map_or([StateSnapshot::NAN; 2], |s| *s);
+    ) -> Result<(), HarnessError> {
+        let mut errors = evaluated.errors;
         let state_error = errors.state_error;
-        let geometry = match (geometry, self.geometry.as_mut()) {
+        let geometry = match (evaluated.geometry, self.geometry.as_mut()) {
             (Some(g), Some(geometry)) => {
                 geometry.record(t, &g, state_error);
                 Some(g)
             }
-            (_, Some(geometry)) => match (mpfr, exact) {
-                (Some((tm, state)), Some(exact)) => geometry.sample(tm, state, &exact, state_error),
+            (_, Some(geometry)) => match (mpfr, &evaluated.exact) {
+                (Some((tm, state)), Some(exact)) => geometry.sample(tm, state, exact, state_error),
                 // An f64 sample's geometry is always evaluated (it runs in f64).
                 _ => None,
             },
@@ -430,7 +438,7 @@ impl Analysis {
         }
         let index = self.report.samples_compared;
         self.report.absorb(&errors);
-        self.digits.add(digits);
+        self.digits.add(evaluated.digits);
         self.drifts.push(
             t,
             [
@@ -440,16 +448,24 @@ impl Analysis {
                 errors.constraint_drift,
             ],
         );
+        let record = &mut self.last;
+        record.index = index;
+        record.t = t;
+        record.errors = errors;
+        match &evaluated.snapshots {
+            Some(s) => {
+                [record.exact, record.integrated] = **s;
+                self.last_has_states = true;
+            }
+            None if self.last_has_states => {
+                [record.exact, record.integrated] = [StateSnapshot::NAN; 2];
+                self.last_has_states = false;
+            }
+            None => {}
+        }
         observer
-            .on_sample(&SampleRecord {
-                index,
-                t,
-                exact: ex,
-                integrated: int,
-                errors,
-            })
-            .map_err(HarnessError::Observer)?;
-        Ok(errors)
+            .on_sample(&self.last)
+            .map_err(HarnessError::Observer)
     }
 
     /// Add the cost of (a piece of) the run.
