@@ -82,15 +82,16 @@ impl Analysis {
             exact: None,
             errors,
             digits,
-            snapshots: snapshots.map(Box::new),
+            snapshots,
             geometry,
         }
     }
 }
 
-/// What [`measure_portable`] returns: the errors, the snapshots (when asked) and the relative
-/// and mixed error of the correct digits.
-type Measured = (SampleErrors, Option<[StateSnapshot; 2]>, (f64, f64));
+/// What [`measure_portable`] returns: the errors, the snapshots (when asked: boxed, so that
+/// the usual answer without them is small to return) and the relative and mixed error of the
+/// correct digits.
+type Measured = (SampleErrors, Option<Box<[StateSnapshot; 2]>>, (f64, f64));
 
 /// The errors of f64 data `x` against the exact state in double-double: with the fused
 /// multiply-add of the processor where it has one (the same numbers: an FMA rounds once
@@ -137,7 +138,7 @@ pub(super) fn measure_portable(
     let snapshots = if snapshots {
         let state = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
         let (_, s) = sample_errors(&m.fields, &m.n, &m.initial_integrals, exact, &state, true);
-        s
+        s.map(Box::new)
     } else {
         None
     };
