@@ -260,6 +260,7 @@ pub(crate) fn small_angle(sin: Dd, cos: Dd) -> Dd {
 }
 
 mod arctangent;
+mod atan_table;
 
 #[cfg(test)]
 mod tests;

@@ -9,11 +9,10 @@
 //! Error: a few units of 2⁻¹⁰⁶ of θ (the rounding of cb, below 2⁻¹⁰⁵ c, is below 2⁻¹⁰⁴ of
 //! θ ≥ c/2; the f64 tail's, below 2⁻⁵¹·u⁷, is below 2⁻¹⁰⁷ of θ).
 
-use std::sync::OnceLock;
-
 use rsts_dynamics::scalar::DoubleDouble as Dd;
 use rsts_dynamics::Real;
-use rug::Float;
+
+use super::atan_table::ATAN;
 
 /// The table's points are k/STEPS, k = 0…STEPS.
 const STEPS: u32 = 256;
@@ -31,17 +30,6 @@ const HALF_PI: Dd = Dd {
     hi: std::f64::consts::FRAC_PI_2,
     lo: 6.123233995736766e-17,
 };
-
-/// atan(k/256) for k = 0…256 in double-double, computed once in MPFR.
-fn table() -> &'static [Dd; STEPS as usize + 1] {
-    static TABLE: OnceLock<[Dd; STEPS as usize + 1]> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        std::array::from_fn(|k| {
-            let z = Float::with_val(200, k as u32) / STEPS;
-            Dd::from_float(&z.atan())
-        })
-    })
-}
 
 /// atan2(sin, cos) for sin ≥ 0 (see the module's text); the general double-double atan2 for
 /// a zero or non-finite argument.
@@ -62,7 +50,8 @@ pub(crate) fn arctangent(sin: Dd, cos: Dd) -> Dd {
     let tail =
         u.hi * w1 * w1 * w1 * (-1.0 / 7.0 + w1 * (1.0 / 9.0 - w1 * (1.0 / 11.0 - w1 / 13.0)));
     let series = (u - u * w * (THIRD - w * FIFTH)).add_f64(tail);
-    let z = table()[k] + series;
+    let (hi, lo) = ATAN[k];
+    let z = Dd { hi, lo } + series;
     let angle = if swap { HALF_PI - z } else { z };
     if cos.hi < 0.0 {
         Dd::PI - angle
@@ -76,12 +65,18 @@ mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+    use rug::Float;
 
     const MP: u32 = 300;
 
-    /// 1/3, 1/5, π/2 and π are MPFR's rounded to double-double.
+    /// The table atan(k/256) and 1/3, 1/5, π/2, π are MPFR's at 300 bits rounded to
+    /// double-double.
     #[test]
-    fn constants_are_mpfr_s() {
+    fn table_and_constants_are_mpfr_s() {
+        for (k, &(hi, lo)) in ATAN.iter().enumerate() {
+            let z = Float::with_val(MP, k as u32) / STEPS;
+            assert_eq!(Dd { hi, lo }, Dd::from_float(&z.atan()), "atan({k}/256)");
+        }
         let one = Float::with_val(MP, 1);
         let pi = Float::with_val(MP, rug::float::Constant::Pi);
         for (name, got, want) in [
