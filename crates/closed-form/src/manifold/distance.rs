@@ -21,7 +21,8 @@ use rsts_dynamics::state::DIM;
 use rsts_dynamics::vec3::cross;
 use rsts_dynamics::{Fields, Real, State};
 
-use crate::manifold::phi_field::{phi_field_derivative, phi_gradient};
+use crate::manifold::field_derivative::phi_field_derivative;
+use crate::manifold::phi_field::phi_gradient;
 use crate::manifold::spectral::largest_eigenvalue;
 
 /// A function on the phase space, written once over any scalar (so it can be differentiated).
