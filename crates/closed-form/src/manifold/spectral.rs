@@ -90,8 +90,8 @@ fn largest_of_tridiagonal<const N: usize>(d: &[f64; N], e: &[f64; N]) -> (f64, u
     if size == 0.0 || !size.is_finite() {
         return (if size == 0.0 { 0.0 } else { f64::NAN }, 0);
     }
-    // 2^−⌈log₂ size⌉: the scaling and its undoing are exact.
-    let inverse = 2f64.powi(-(size.log2().ceil() as i32));
+    // 2^−⌈log₂ size⌉ (within the normal range): the scaling and its undoing are exact.
+    let inverse = 2f64.powi(-(size.log2().ceil().clamp(-1020.0, 1020.0) as i32));
     let (d, e2) = (
         d.map(|x| x * inverse),
         e.map(|x| (x * inverse) * (x * inverse)),
@@ -186,6 +186,15 @@ mod tests {
             most <= 6 && steps <= 3000 * 4,
             "{steps} steps, at most {most}"
         );
+        // Scaled to the ends of the range (subnormal entries, entries near the largest f64).
+        for scale in [1e-310, 1e-300, 1e300] {
+            let diagonal = [
+                [2.0 * scale, 0.0, 0.0],
+                [0.0, scale, 0.0],
+                [0.0, 0.0, scale],
+            ];
+            assert_eq!(largest_eigenvalue(diagonal), 2.0 * scale, "scale {scale:e}");
+        }
         // A double largest eigenvalue, and a diagonal matrix (no reduction needed).
         let double = [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]];
         assert!((largest_eigenvalue(double) - 2.0).abs() < 1e-15);
