@@ -1,6 +1,7 @@
 //! The written-out gradients of H, K, G and Φ (manifold::phi_field, stop 28) against the jet
 //! gradients of the one definition of the integrals (rsts_dynamics::integrals) at random states
-//! off N, in f64 (to a few ulps of the size of the terms) and at 200 bits (to 1e-50); and the
+//! off N, in f64 (to a few ulps of the size of the terms) and at 200 bits (to 1e-50); the
+//! written-out derivative of X_Φ (manifold::field_derivative) against its jet derivative; and the
 //! gain from the Gram matrix against the largest singular value of the SVD.
 
 use rand::{Rng, SeedableRng};
