@@ -3,7 +3,7 @@
 //! the rescaling and the final scaling by a power of 2 decided per lane (by the scalar code
 //! itself where a lane needs one).
 
-use rsts_dynamics::scalar::{DoubleDouble, DoubleDouble4, LANES};
+use rsts_dynamics::scalar::{every_lane, DoubleDouble, DoubleDouble4, LANES};
 use rsts_dynamics::Real;
 
 use super::{rescale, EllipticModulus, Recursion};
@@ -109,13 +109,14 @@ impl Recursion4 {
 /// (the scalar code's common case), else the scalar code lane by lane.
 #[inline(always)]
 fn rescale4(p: &mut DoubleDouble4, q: &mut DoubleDouble4) {
-    let calm = (0..LANES).all(|i| {
+    let mut calm = [false; LANES];
+    for (i, calm) in calm.iter_mut().enumerate() {
         let m = Real::to_f64(&p.lane(i))
             .abs()
             .max(Real::to_f64(&q.lane(i)).abs());
-        (1e-50..=1e50).contains(&m)
-    });
-    if calm {
+        *calm = (1e-50..=1e50).contains(&m);
+    }
+    if every_lane(calm) {
         return;
     }
     for i in 0..LANES {

@@ -7,7 +7,7 @@
 //! leaves the common case (a time beyond the clock's range, a phase within 1e-30 of a zero of
 //! sin: the Landen branch) is computed alone by the scalar path.
 
-use rsts_dynamics::scalar::{DoubleDouble, DoubleDouble4, LANES};
+use rsts_dynamics::scalar::{every_lane, DoubleDouble, DoubleDouble4, LANES};
 use rsts_dynamics::Real;
 
 use super::phase::turns_at;
@@ -137,10 +137,10 @@ fn body4(m: &ExplicitMotion<DoubleDouble>, ts: [f64; LANES]) -> [BodyState<Doubl
     let (s1, c1) = DoubleDouble4::from_lanes(phi1).sin_cos_turns();
     let (s2, c2) = DoubleDouble4::from_lanes(phi2).sin_cos_turns();
     for (i, lone) in lone.iter_mut().enumerate() {
-        let near_zero = |s: &DoubleDouble4| Real::to_f64(&s.lane(i)).abs() < 1e-30;
-        *lone |= near_zero(&s1) || near_zero(&s2);
+        let (a, b) = (Real::to_f64(&s1.lane(i)), Real::to_f64(&s2.lane(i)));
+        *lone |= (a.abs() < 1e-30) | (b.abs() < 1e-30);
     }
-    if lone.iter().all(|&x| x) {
+    if every_lane(lone) {
         return ts.map(|t| alone(m, t));
     }
     let (v1, v2) = (&m.first, &m.second);

@@ -78,6 +78,12 @@ impl DoubleDouble4 {
         std::array::from_fn(|i| self.lane(i))
     }
 
+    /// −x in the lanes of `mask`, x in the others.
+    #[inline(always)]
+    fn negate_where(mask: [bool; LANES], x: Self) -> Self {
+        each_lane!(|i| if mask[i] { -x.lane(i) } else { x.lane(i) })
+    }
+
     /// Lane by lane: `a` where `mask`, else `b`.
     #[inline(always)]
     pub fn select(mask: [bool; LANES], a: Self, b: Self) -> Self {
@@ -107,7 +113,7 @@ impl DoubleDouble4 {
     /// the sixteenth k and the quadrant chosen per lane.
     #[inline(always)]
     pub fn sin_cos_turns(&self) -> (Self, Self) {
-        if !self.hi.iter().all(|h| h.is_finite()) {
+        if !every_lane(self.hi.map(f64::is_finite)) {
             let sc = self.lanes().map(|x| x.sin_cos_turns());
             return (
                 Self::from_lanes(sc.map(|p| p.0)),
@@ -127,19 +133,11 @@ impl DoubleDouble4 {
             *k = n - 8.0 * *j;
         }
         let (s, c) = Self::sin_cos_reduced(t, k);
-        let mut sin = Self::default();
-        let mut cos = Self::default();
-        for (i, j) in j.iter().enumerate() {
-            let (s, c) = (s.lane(i), c.lane(i));
-            let (a, b) = match (j.rem_euclid(4.0)) as u32 {
-                0 => (s, c),
-                1 => (c, -s),
-                2 => (-s, -c),
-                _ => (-c, s),
-            };
-            sin.set_lane(i, a);
-            cos.set_lane(i, b);
-        }
+        // The quadrant q = j mod 4: (s, c), (c, −s), (−s, −c), (−c, s) as selects.
+        let q = j.map(|j| (j.rem_euclid(4.0)) as u32);
+        let odd = q.map(|q| q & 1 == 1);
+        let sin = Self::negate_where(q.map(|q| q >= 2), Self::select(odd, c, s));
+        let cos = Self::negate_where(q.map(|q| q == 1 || q == 2), Self::select(odd, s, c));
         (sin, cos)
     }
 
@@ -166,7 +164,7 @@ impl DoubleDouble4 {
         let sin_t = t.add_no_cancel(t * t2 * ps);
         let cos_t = Self::splat(DoubleDouble::ONE).add_no_cancel(t2 * pc);
         let turned = k.map(|k| k != 0.0);
-        if !turned.iter().any(|&x| x) {
+        if every_lane(turned.map(|x| !x)) {
             return (sin_t, cos_t);
         }
         // sin, cos of k·π/16 per lane (0 and 1 where k = 0: those lanes keep sin t, cos t).
@@ -188,6 +186,12 @@ impl DoubleDouble4 {
             Self::select(turned, cos, cos_t),
         )
     }
+}
+
+/// All four are true (without the short cut of `Iterator::all`: no branch per lane).
+#[inline(always)]
+pub fn every_lane(x: [bool; LANES]) -> bool {
+    (x[0] & x[1]) & (x[2] & x[3])
 }
 
 impl From<DoubleDouble> for DoubleDouble4 {
@@ -283,7 +287,7 @@ impl Real for DoubleDouble4 {
     /// common case), else lane by lane.
     #[inline(always)]
     fn sqrt(&self) -> Self {
-        if self.hi.iter().all(|&h| h > 0.0 && h.is_finite()) {
+        if every_lane(self.hi.map(|h| h > 0.0 && h.is_finite())) {
             each_lane!(|i| self.lane(i).karp_step())
         } else {
             each_lane!(|i| self.lane(i).sqrt_karp())
