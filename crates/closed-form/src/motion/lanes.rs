@@ -10,7 +10,7 @@
 use rsts_dynamics::scalar::{every_lane, DoubleDouble, DoubleDouble4, LANES};
 use rsts_dynamics::Real;
 
-use super::phase::turns_at;
+use super::phase::turns_at4;
 use super::ExplicitMotion;
 use crate::elliptic::EllipticModulus;
 use crate::formulas::{body_state_with, BodyState, SeparatedCoordinates};
@@ -125,17 +125,11 @@ fn body4(m: &ExplicitMotion<DoubleDouble>, ts: [f64; LANES]) -> [BodyState<Doubl
         return ts.map(|t| alone(m, t));
     };
     // Lanes the scalar path takes elsewhere get a harmless phase here and their state alone.
-    let mut lone = [false; LANES];
-    let placeholder = DoubleDouble::from_f64_exact(0.125);
-    let (mut phi1, mut phi2) = ([placeholder; LANES], [placeholder; LANES]);
-    for i in 0..LANES {
-        match (turns_at(k1, ts[i]), turns_at(k2, ts[i])) {
-            (Some(a), Some(b)) => (phi1[i], phi2[i]) = (a, b),
-            _ => lone[i] = true,
-        }
-    }
-    let (s1, c1) = DoubleDouble4::from_lanes(phi1).sin_cos_turns();
-    let (s2, c2) = DoubleDouble4::from_lanes(phi2).sin_cos_turns();
+    let (phi1, none1) = turns_at4(k1, ts);
+    let (phi2, none2) = turns_at4(k2, ts);
+    let mut lone: [bool; LANES] = std::array::from_fn(|i| none1[i] | none2[i]);
+    let (s1, c1) = phi1.sin_cos_turns();
+    let (s2, c2) = phi2.sin_cos_turns();
     for (i, lone) in lone.iter_mut().enumerate() {
         let (a, b) = (Real::to_f64(&s1.lane(i)), Real::to_f64(&s2.lane(i)));
         *lone |= (a.abs() < 1e-30) | (b.abs() < 1e-30);
