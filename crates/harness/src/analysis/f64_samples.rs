@@ -14,7 +14,6 @@ use rsts_dynamics::State;
 use super::f64_errors::{f64_sample_errors, state_array};
 use super::{Analysis, DdMeasure, Evaluated, Observer};
 use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
-use crate::rounded_reference::DdReference;
 use crate::HarnessError;
 
 impl Analysis {
@@ -52,10 +51,12 @@ impl Analysis {
                 let (Some(dd), Some(m)) = (me.dd.as_ref(), me.dd_measure.as_ref()) else {
                     unreachable!("checked above")
                 };
+                let exact = dd.states(ts);
                 out.extend(
                     ts.iter()
                         .zip(xs)
-                        .map(|(t, x)| me.evaluate_f64(dd, m, *t, x, wanted)),
+                        .zip(exact)
+                        .map(|((t, x), e)| me.evaluate_f64(m, *t, x, e, wanted)),
                 );
             },
             |t, _| (*t, None),
@@ -63,16 +64,17 @@ impl Analysis {
         )
     }
 
-    /// What an f64 sample's errors are, in double-double, apart from the samples before it.
+    /// What an f64 sample's errors are, in double-double, apart from the samples before it
+    /// (`exact`: its state from
+    /// [`crate::rounded_reference::DdReference::states`]).
     fn evaluate_f64(
         &self,
-        dd: &DdReference,
         m: &DdMeasure,
         t: f64,
         x: &[f64; DIM],
+        exact: State<DoubleDouble>,
         snapshots: bool,
     ) -> Evaluated {
-        let exact = dd.state(t);
         let (errors, snapshots, digits) = measure(m, &exact, x, self.digits.ratio(), snapshots);
         let geometry = self
             .geometry
