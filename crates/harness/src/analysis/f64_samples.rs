@@ -13,6 +13,7 @@ use rsts_dynamics::State;
 
 use super::f64_errors::f64_sample_errors;
 use super::{Analysis, DdMeasure, Evaluated, Observer};
+use crate::geometry::WarmStart;
 use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
 use crate::rounded_reference::DdReference;
 use crate::HarnessError;
@@ -52,10 +53,12 @@ impl Analysis {
                 let (Some(dd), Some(m)) = (me.dd.as_ref(), me.dd_measure.as_ref()) else {
                     unreachable!("checked above")
                 };
+                // The projector of each sample starts from the one before (the first: cold).
+                let mut warm = WarmStart::default();
                 out.extend(
                     ts.iter()
                         .zip(xs)
-                        .map(|(t, x)| me.evaluate_f64(dd, m, *t, x, wanted)),
+                        .map(|(t, x)| me.evaluate_f64(dd, m, *t, x, wanted, &mut warm)),
                 );
             },
             |t, _| (*t, None),
@@ -71,13 +74,14 @@ impl Analysis {
         t: f64,
         x: &[f64; DIM],
         snapshots: bool,
+        warm: &mut WarmStart,
     ) -> Evaluated {
         let exact = dd.state(t);
         let (errors, snapshots, digits) = measure(m, &exact, x, self.digits.ratio(), snapshots);
         let geometry = self
             .geometry
             .as_ref()
-            .and_then(|g| g.evaluate_f64(t, x, &exact));
+            .and_then(|g| g.evaluate_f64(t, x, &exact, warm));
         Evaluated {
             exact: None,
             errors,
