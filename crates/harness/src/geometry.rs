@@ -10,7 +10,9 @@
 //! The regular distance |X_Φ| of [`rsts_closed_form::manifold::distance`] is logged beside it.
 //! The computation runs in the integrator's precision: f64 for the f64 methods (about a µs per
 //! sample, on the projector's tabulated torus), MPFR at the integrator's digits + 32 bits
-//! otherwise (docs/stability.md says how, docs/benchmarks.md what it costs).
+//! otherwise (docs/stability.md says how, docs/benchmarks.md what it costs). The f64 samples of a
+//! chunk ([`Geometry::evaluate_f64`]) start each projection from the sample before
+//! ([`WarmStart`]): one evaluation of the torus with its derivatives per sample near N.
 
 use rsts_closed_form::manifold::distance::{field_norm, gain};
 use rsts_closed_form::manifold::{normal_type, NormalType, Projector};

@@ -20,7 +20,8 @@
 //! Gauss–Newton steps, and ∂C/∂m, ∂C/∂h, which multiply the small δm, δh) are evaluated in f64,
 //! so each step gains the 16 digits of f64 and the solution is that of the exact equations; a
 //! first pass runs wholly in f64. At 30 digits this costs a few evaluations of the closed form
-//! per state.
+//! per state. Along a run, [`Projector::project_from`] starts from the nearest point of the
+//! sample before (a warm start: one evaluation with derivatives and a chord step per sample).
 
 use rsts_dynamics::jet::Jet;
 use rsts_dynamics::scalar::DoubleDouble;
