@@ -4,6 +4,10 @@
 //! printed digit but for the geometry's last digits (a warm start of its projector), on a
 //! perturbed trajectory of each normal type (elliptic I+, hyperbolic V).
 
+#[path = "support/geometry_digits.rs"]
+mod geometry_digits;
+use geometry_digits::assert_same_but_the_geometrys_last_digits;
+
 use rsts_dynamics::State;
 use rsts_harness::{Analysis, Case, NoObserver, RunInfo};
 use rug::Float;
@@ -53,42 +57,6 @@ fn report(case: &Case, bits: u32, times: &[f64], states: &[[f64; 9]], f64_path: 
     serde_json::to_string_pretty(&analysis.finish()).unwrap()
 }
 
-/// The two reports are the same but for the last digits of the geometry's numbers (the f64
-/// path starts each projection from the sample before, a warm start; the MPFR path from the
-/// exact angles): |Δx| ≤ 1e-8·|x| + 1e-15, the growth fits' numbers to 1e-2.
-fn same_but_the_geometrys_last_digits(f64_path: &str, mpfr_path: &str, m: f64) {
-    use serde_json::Value;
-    let parse = |s: &str| -> serde_json::Map<String, Value> { serde_json::from_str(s).unwrap() };
-    let (mut a, mut b) = (parse(f64_path), parse(mpfr_path));
-    fn close(a: &Value, b: &Value, at: &str) {
-        match (a, b) {
-            (Value::Number(x), Value::Number(y)) => {
-                let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
-                // A growth fit weighs the samples at the round-off (the first ones; all of
-                // them on the perturbation of 1e-12, where it moves by 1.4e-3) as much as the
-                // others; its model ("kind") is the same.
-                let rel = if at.contains("growth") { 1e-2 } else { 1e-8 };
-                assert!(
-                    (x - y).abs() <= rel * x.abs().max(y.abs()) + 1e-15,
-                    "{at}: {x:e} against {y:e}"
-                );
-            }
-            (Value::Object(x), Value::Object(y)) => {
-                assert_eq!(x.len(), y.len(), "{at}");
-                for (k, v) in x {
-                    close(v, &y[k], &format!("{at}.{k}"));
-                }
-            }
-            _ => assert_eq!(a, b, "{at}"),
-        }
-    }
-    for key in ["normal", "phase_error", "error_split"] {
-        let (x, y) = (a.remove(key), b.remove(key));
-        close(&x.unwrap(), &y.unwrap(), &format!("m = {m}: {key}"));
-    }
-    assert_eq!(a, b, "m = {m}");
-}
-
 #[test]
 fn f64_path_reports_the_mpfr_paths_digits() {
     let bits = 172;
@@ -109,7 +77,12 @@ fn f64_path_reports_the_mpfr_paths_digits() {
         let states = perturbed(&case, bits, &times, size);
         let f64_path = report(&case, bits, &times, &states, true);
         let mpfr_path = report(&case, bits, &times, &states, false);
-        same_but_the_geometrys_last_digits(&f64_path, &mpfr_path, case.m);
+        let parse = |s: &str| -> serde_json::Value { serde_json::from_str(s).unwrap() };
+        assert_same_but_the_geometrys_last_digits(
+            &parse(&f64_path),
+            &parse(&mpfr_path),
+            &format!("m = {}", case.m),
+        );
         // The comparison sees a change of one value of the last sample by one unit in the
         // last place.
         let mut moved = states.clone();

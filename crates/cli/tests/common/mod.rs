@@ -212,40 +212,6 @@ pub fn whole_check(
     serde_json::to_value(&whole).unwrap()
 }
 
-/// `a` and `b` are the same report but for the last digits of the geometry's numbers
-/// (`normal`, `phase_error`, `error_split`): `rsts check` of f64 data starts each projection
-/// from the sample before (a warm start), the library's check of the same samples in MPFR from
-/// the exact angles. |Δx| ≤ 1e-8·|x| + 1e-15; the growth fits' numbers (which weigh samples at
-/// the round-off as much as the others) to 1e-2, with the same model.
-pub fn assert_same_but_the_geometrys_last_digits(
-    a: &serde_json::Value,
-    b: &serde_json::Value,
-    what: &str,
-) {
-    use serde_json::Value;
-    fn close(a: &Value, b: &Value, at: &str) {
-        match (a, b) {
-            (Value::Number(x), Value::Number(y)) => {
-                let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
-                let rel = if at.contains("growth") { 1e-2 } else { 1e-8 };
-                assert!(
-                    (x - y).abs() <= rel * x.abs().max(y.abs()) + 1e-15,
-                    "{at}: {x:e} against {y:e}"
-                );
-            }
-            (Value::Object(x), Value::Object(y)) => {
-                assert_eq!(x.len(), y.len(), "{at}");
-                for (k, v) in x {
-                    close(v, &y[k], &format!("{at}.{k}"));
-                }
-            }
-            _ => assert_eq!(a, b, "{at}"),
-        }
-    }
-    let (mut a, mut b) = (a.clone(), b.clone());
-    for key in ["normal", "phase_error", "error_split"] {
-        let (x, y) = (a[key].take(), b[key].take());
-        close(&x, &y, &format!("{what}: {key}"));
-    }
-    assert_eq!(a, b, "{what}");
-}
+#[path = "../../../harness/tests/support/geometry_digits.rs"]
+mod geometry_digits;
+pub use geometry_digits::assert_same_but_the_geometrys_last_digits;
