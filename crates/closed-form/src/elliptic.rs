@@ -8,6 +8,8 @@
 
 use rsts_dynamics::Real;
 
+mod lanes;
+
 /// A modulus with its AGM sequence precomputed, ready for many evaluations.
 #[derive(Clone, Debug)]
 pub struct EllipticModulus<T> {

@@ -51,6 +51,21 @@ pub struct ConstantProducts<S> {
     two_pmh: S,
 }
 
+impl<S> ConstantProducts<S> {
+    /// The same products in another scalar (each number mapped by `g`).
+    pub(crate) fn map<U>(&self, g: impl Fn(&S) -> U) -> ConstantProducts<U> {
+        ConstantProducts {
+            a2: g(&self.a2),
+            b2: g(&self.b2),
+            ab: g(&self.ab),
+            two_m: g(&self.two_m),
+            four_m: g(&self.four_m),
+            two_ell: g(&self.two_ell),
+            two_pmh: g(&self.two_pmh),
+        }
+    }
+}
+
 impl<S: Real> ConstantProducts<S> {
     pub fn new(c: &FormulaConstants<S>) -> Self {
         let two_m = twice(&c.m);

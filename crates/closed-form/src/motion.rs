@@ -19,9 +19,11 @@ use crate::scalar::{Scalar, GUARD_BITS};
 use crate::separated::{segments, SeparatedVariable};
 
 mod fast;
+mod lanes;
 mod phase;
 pub mod symmetry;
 pub use fast::DdPath;
+pub use lanes::BatchPath;
 use phase::PhaseClock;
 pub use phase::F64_CLOCK_MAX_T;
 

@@ -1,6 +1,7 @@
 //! The written-out gradients of H, K, G and Φ (manifold::phi_field, stop 28) against the jet
 //! gradients of the one definition of the integrals (rsts_dynamics::integrals) at random states
-//! off N, in f64 (to a few ulps of the size of the terms) and at 200 bits (to 1e-50); and the
+//! off N, in f64 (to a few ulps of the size of the terms) and at 200 bits (to 1e-50); the
+//! written-out derivative of X_Φ (manifold::field_derivative) against its jet derivative; and the
 //! gain from the Gram matrix against the largest singular value of the SVD.
 
 use rand::{Rng, SeedableRng};
@@ -8,7 +9,10 @@ use rand_chacha::ChaCha8Rng;
 use rsts_closed_form::manifold::distance::{
     gain, gradient, stretches, Energy, Kowalevski, PhaseFunction, Phi,
 };
-use rsts_closed_form::manifold::phi_field::{integral_gradients, phi_gradient};
+use rsts_closed_form::manifold::field_derivative::phi_field_derivative;
+use rsts_closed_form::manifold::phi_field::{
+    integral_gradients, phi_field_derivative_jet, phi_gradient,
+};
 use rsts_dynamics::integrals::third;
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::vec3::cross;
@@ -110,4 +114,34 @@ fn the_gain_is_the_largest_stretch() {
     }
     assert!(worst < 64.0 * f64::EPSILON, "gain vs SVD: {worst:e}");
     eprintln!("largest relative gap gain vs SVD: {worst:e}");
+}
+
+/// The written-out derivative of X_Φ (manifold::field_derivative, stop 30) against the jet
+/// derivative of the written-out field along random directions of the whole phase space (every
+/// term of ∇²Φ·δ moves) and along directions of δω or (δα, δβ) alone (the constraint
+/// directions of the gain), to a few ulps of the largest entry.
+#[test]
+fn written_out_derivative_of_x_phi_equals_the_jet_derivative() {
+    let mut rng = ChaCha8Rng::seed_from_u64(30);
+    let mut worst = 0.0f64;
+    for _ in 0..2000 {
+        let (fields, s) = random::<f64>(&mut rng, 53);
+        // Directions 0, 1: δω alone; 2, 3: (δα, δβ) alone; 4, 5: everything.
+        let directions: [[f64; DIM]; 6] = std::array::from_fn(|j| {
+            std::array::from_fn(|k| match (j / 2, k < 3) {
+                (0, false) | (1, true) => 0.0,
+                _ => rng.gen_range(-1.0..1.0),
+            })
+        });
+        let hand = phi_field_derivative(&fields, &s, &directions);
+        let jet = phi_field_derivative_jet(&fields, &s, &directions);
+        let scale = jet.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        for k in 0..DIM {
+            for j in 0..6 {
+                worst = worst.max((hand[k][j] - jet[k][j]).abs() / scale);
+            }
+        }
+    }
+    eprintln!("written-out vs jet derivative of X_Φ: {worst:e} of the largest entry");
+    assert!(worst < 1e-13, "{worst:e}");
 }

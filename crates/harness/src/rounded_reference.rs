@@ -7,7 +7,7 @@
 use rug::Float;
 
 use rsts_closed_form::rounded::{calibration_times, RoundingBounds};
-use rsts_closed_form::{BodyState, DdPath, ExplicitMotion, TorusChoice};
+use rsts_closed_form::{BatchPath, BodyState, DdPath, ExplicitMotion, TorusChoice};
 use rsts_dynamics::scalar::DoubleDouble;
 use rsts_dynamics::{Real, State};
 
@@ -78,6 +78,22 @@ impl DdReference {
     /// The state at time t in double-double (on the FMA build where the CPU has it).
     pub fn state(&self, t: f64) -> State<DoubleDouble> {
         body(self.motion.body_at_f64(t))
+    }
+
+    /// The states at the times `ts` in double-double: [`Self::state`] of each, bit for bit,
+    /// four at a time (AVX2 and FMA where the CPU has them; [`ExplicitMotion::bodies_at_f64`]).
+    pub fn states(&self, ts: &[f64]) -> Vec<State<DoubleDouble>> {
+        let mut bodies = Vec::with_capacity(ts.len());
+        self.motion.bodies_at_f64(ts, &mut bodies);
+        bodies.into_iter().map(body).collect()
+    }
+
+    /// [`Self::states`] on a given build ([`BatchPath`]), `None` when this CPU lacks it.
+    pub fn states_on(&self, path: BatchPath, ts: &[f64]) -> Option<Vec<State<DoubleDouble>>> {
+        let mut bodies = Vec::with_capacity(ts.len());
+        self.motion
+            .bodies_at_f64_on(path, ts, &mut bodies)
+            .then(|| bodies.into_iter().map(body).collect())
     }
 
     /// [`Self::values`] on a given build of the double-double state ([`DdPath`]), `None` when

@@ -8,7 +8,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rug::Float;
 
-use rsts_closed_form::{DdPath, ExplicitMotion, TorusChoice, EXAMPLE_POINTS_A1_B05};
+use rsts_closed_form::{BatchPath, DdPath, ExplicitMotion, TorusChoice, EXAMPLE_POINTS_A1_B05};
 use rsts_harness::rounded_reference::DdReference;
 use rsts_harness::Case;
 
@@ -81,4 +81,36 @@ fn fma_and_portable_double_double_give_the_same_bits() {
         }
     }
     assert!(rows > 39_000, "{rows} rows decided in double-double");
+}
+
+/// `DdReference::states` (four samples at once, on AVX2 + FMA where the CPU has them, and the
+/// portable build) is `DdReference::state` of each time bit for bit, for the batch sizes of
+/// check's chunks (64) and a remainder.
+#[test]
+fn batches_of_states_are_the_state_of_each_time() {
+    let bits = |s: &rsts_dynamics::State<rsts_dynamics::scalar::DoubleDouble>| {
+        s.to_array().map(|x| (x.hi.to_bits(), x.lo.to_bits()))
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(30);
+    let mut avx2 = false;
+    for (_, m, h) in EXAMPLE_POINTS_A1_B05.iter().take(3) {
+        let dd = reference(*m, *h);
+        let ts: Vec<f64> = (0..64 * 20 + 3).map(|_| rng.gen_range(-1e3..1e6)).collect();
+        for path in [BatchPath::Portable, BatchPath::Avx2Fma] {
+            let Some(states) = dd.states_on(path, &ts) else {
+                continue;
+            };
+            avx2 |= path == BatchPath::Avx2Fma;
+            for (s, t) in states.iter().zip(&ts) {
+                assert_eq!(bits(s), bits(&dd.state(*t)), "{path:?} t = {t:e}");
+            }
+        }
+        assert_eq!(dd.states(&ts).len(), ts.len());
+    }
+    if !avx2 {
+        rsts_io::report_skip(
+            "batches_of_states_are_the_state_of_each_time (AVX2 + FMA build)",
+            "this CPU lacks AVX2 or FMA",
+        );
+    }
 }

@@ -21,7 +21,8 @@ use rsts_dynamics::state::DIM;
 use rsts_dynamics::vec3::cross;
 use rsts_dynamics::{Fields, Real, State};
 
-use crate::manifold::phi_field::{phi_field_derivative, phi_gradient};
+use crate::manifold::field_derivative::PhiFieldDerivative;
+use crate::manifold::phi_field::phi_gradient;
 use crate::manifold::spectral::largest_eigenvalue;
 
 /// A function on the phase space, written once over any scalar (so it can be differentiated).
@@ -191,23 +192,31 @@ fn fields_f64<T: Real>(fields: &Fields<T>) -> Fields<f64> {
 /// constraint surface ([`largest_eigenvalue`]). The eigenvalue is accurate to a few ulps of |J|² (so the gain to a few
 /// ulps of itself, being |J|₂); only the small singular values need the SVD of [`stretches`].
 pub fn gain(fields: &Fields<f64>, s: &State<f64>) -> f64 {
-    let j = constraint_derivative(fields, s);
-    // The lower triangle only: the eigenvalue reads no other.
-    let gram: [[f64; 6]; 6] = std::array::from_fn(|p| {
-        std::array::from_fn(|q| {
-            if q <= p {
-                (0..DIM).map(|k| j[k][p] * j[k][q]).sum()
-            } else {
-                0.0
+    let columns = constraint_columns(fields, s);
+    // The lower triangle only: the eigenvalue reads no other. Each entry the dot product of two
+    // columns, summed in order.
+    let mut gram = [[0.0; 6]; 6];
+    for p in 0..6 {
+        for q in 0..=p {
+            let mut sum = 0.0;
+            for (x, y) in columns[p].iter().zip(&columns[q]) {
+                sum += x * y;
             }
-        })
-    });
+            gram[p][q] = sum;
+        }
+    }
     largest_eigenvalue(gram).max(0.0).sqrt()
 }
 
 /// The derivative J (9×6) of X_Φ along six orthonormal directions of the constraint surface
 /// |α| = |β| = 1, α·β = 0: δω = e₁, e₂, e₃, and (δα, δβ) = (θ×α, θ×β) for θ = α, β, γ/√2.
 fn constraint_derivative(fields: &Fields<f64>, s: &State<f64>) -> [[f64; 6]; DIM] {
+    let columns = constraint_columns(fields, s);
+    std::array::from_fn(|k| std::array::from_fn(|j| columns[j][k]))
+}
+
+/// The columns of [`constraint_derivative`].
+fn constraint_columns(fields: &Fields<f64>, s: &State<f64>) -> [[f64; DIM]; 6] {
     let gamma = s.gamma();
     let s2 = std::f64::consts::FRAC_1_SQRT_2;
     let rotations = [s.alpha, s.beta, gamma.map(|x| x * s2)];
@@ -223,7 +232,8 @@ fn constraint_derivative(fields: &Fields<f64>, s: &State<f64>) -> [[f64; 6]; DIM
         }
         d
     });
-    phi_field_derivative(fields, s, &directions)
+    let d = PhiFieldDerivative::new(fields, s);
+    directions.each_ref().map(|delta| d.along(delta))
 }
 
 /// The singular values (largest first) of the derivative of X_Φ along the six directions of

@@ -4,6 +4,7 @@
 //! ([`identify`]).
 
 pub mod distance;
+pub mod field_derivative;
 pub mod identify;
 mod least_squares;
 pub mod normal;

@@ -115,8 +115,10 @@ pub fn phi_field<T: Real>(fields: &Fields<T>, s: &State<T>) -> [T; DIM] {
 
 /// The derivative of X_Φ along six directions (δω, δα, δβ) of the phase space at a state: one
 /// evaluation of [`phi_field`] over a jet of six directions (column j of the 9×6 matrix is the
-/// derivative along direction j, bit for bit that of a dual number seeded along it).
-pub fn phi_field_derivative(
+/// derivative along direction j, bit for bit that of a dual number seeded along it). The gain
+/// uses the written-out [`crate::manifold::field_derivative::phi_field_derivative`]; a test
+/// compares the two.
+pub fn phi_field_derivative_jet(
     fields: &Fields<f64>,
     s: &State<f64>,
     directions: &[[f64; DIM]; 6],

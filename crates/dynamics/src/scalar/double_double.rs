@@ -411,5 +411,6 @@ impl Real for DoubleDouble {
 }
 
 mod functions;
+pub mod lanes;
 #[cfg(test)]
 mod tests;

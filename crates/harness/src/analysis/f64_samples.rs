@@ -15,7 +15,6 @@ use super::f64_errors::f64_sample_errors;
 use super::{Analysis, DdMeasure, Evaluated, Observer};
 use crate::geometry::WarmStart;
 use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
-use crate::rounded_reference::DdReference;
 use crate::HarnessError;
 
 impl Analysis {
@@ -53,12 +52,14 @@ impl Analysis {
                 let (Some(dd), Some(m)) = (me.dd.as_ref(), me.dd_measure.as_ref()) else {
                     unreachable!("checked above")
                 };
+                let exact = dd.states(ts);
                 // The projector of each sample starts from the one before (the first: cold).
                 let mut warm = WarmStart::default();
                 out.extend(
                     ts.iter()
                         .zip(xs)
-                        .map(|(t, x)| me.evaluate_f64(dd, m, *t, x, wanted, &mut warm)),
+                        .zip(exact)
+                        .map(|((t, x), e)| me.evaluate_f64(m, *t, x, e, wanted, &mut warm)),
                 );
             },
             |t, _| (*t, None),
@@ -66,17 +67,18 @@ impl Analysis {
         )
     }
 
-    /// What an f64 sample's errors are, in double-double, apart from the samples before it.
+    /// What an f64 sample's errors are, in double-double, apart from the samples before it
+    /// (`exact`: its state from
+    /// [`crate::rounded_reference::DdReference::states`]).
     fn evaluate_f64(
         &self,
-        dd: &DdReference,
         m: &DdMeasure,
         t: f64,
         x: &[f64; DIM],
+        exact: State<DoubleDouble>,
         snapshots: bool,
         warm: &mut WarmStart,
     ) -> Evaluated {
-        let exact = dd.state(t);
         let (errors, snapshots, digits) = measure(m, &exact, x, self.digits.ratio(), snapshots);
         let geometry = self
             .geometry

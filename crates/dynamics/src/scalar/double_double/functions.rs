@@ -14,7 +14,7 @@ use rug::Float;
 use super::{DoubleDouble, LN2, MPFR_BITS, PI, SERIES_CUTOFF};
 
 /// 2π to 106 bits (π's parts doubled, exactly).
-const TWO_PI: DoubleDouble = DoubleDouble {
+pub(super) const TWO_PI: DoubleDouble = DoubleDouble {
     hi: 2.0 * PI[0],
     lo: 2.0 * PI[1],
 };
@@ -27,7 +27,7 @@ impl DoubleDouble {
     /// one's smaller addend is below half the larger: |sin(π/16)cos(π/32)| > 2·|cos(π/16)sin(π/32)|),
     /// so they are [`Self::add_no_cancel`].
     #[inline(always)]
-    fn sin_cos_reduced(t: Self, k: f64) -> (Self, Self) {
+    pub(super) fn sin_cos_reduced(t: Self, k: f64) -> (Self, Self) {
         let tables = sin_cos_tables();
         let t2 = t.sqr();
         let (s, c) = (&tables.inverse_factorials, &tables.inverse_even_factorials);
@@ -119,7 +119,12 @@ impl DoubleDouble {
         if self.hi.is_infinite() {
             return *self;
         }
-        // Karp: y ≈ 1/√a, √a ≈ a·y + (a − (a·y)²)·y/2.
+        self.karp_step()
+    }
+
+    /// Karp's step for a positive finite x: y ≈ 1/√x, √x ≈ x·y + (x − (x·y)²)·y/2.
+    #[inline(always)]
+    pub(super) fn karp_step(&self) -> Self {
         let y = 1.0 / self.hi.sqrt();
         let ay = self.hi * y;
         let r = *self - Self::prod_f64(ay, ay);
@@ -231,16 +236,16 @@ impl DoubleDouble {
 }
 
 /// Constants of [`DoubleDouble::sin_cos`], computed once in MPFR.
-struct SinCosTables {
+pub(super) struct SinCosTables {
     /// (−1)ⁿ/(2n + 1)! for n = 1…9 (the odd Taylor coefficients of sin from t³ to t¹⁹).
-    inverse_factorials: [DoubleDouble; 9],
+    pub(super) inverse_factorials: [DoubleDouble; 9],
     /// (−1)ⁿ/(2n)! for n = 1…9 (the even Taylor coefficients of cos from t² to t¹⁸).
-    inverse_even_factorials: [DoubleDouble; 9],
+    pub(super) inverse_even_factorials: [DoubleDouble; 9],
     /// (sin kπ/16, cos kπ/16) for k = 1…4.
-    sin_cos_k16: [(DoubleDouble, DoubleDouble); 4],
+    pub(super) sin_cos_k16: [(DoubleDouble, DoubleDouble); 4],
 }
 
-fn sin_cos_tables() -> &'static SinCosTables {
+pub(super) fn sin_cos_tables() -> &'static SinCosTables {
     static TABLES: std::sync::OnceLock<SinCosTables> = std::sync::OnceLock::new();
     TABLES.get_or_init(|| {
         let bits = MPFR_BITS;

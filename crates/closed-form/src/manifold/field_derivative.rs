@@ -1,0 +1,227 @@
+//! The derivative of X_Φ along a direction δ = (δω, δα, δβ), written out (stop 30): the gain of
+//! every saturated sample of `rsts check` needs it along six directions, and one evaluation of
+//! [`phi_field`] over a jet of six directions ([`phi_field_derivative_jet`]) costs 1.6× the
+//! instructions of these formulas (camera V's saturated samples, stop 30). X_Φ = 𝔅(x)∇Φ(x) with 𝔅 the Lie–Poisson structure, linear in x, so
+//!
+//! ```text
+//!   DX_Φ·δ = 𝔅(δ)∇Φ + 𝔅(x)(∇²Φ·δ)
+//!   ∇²Φ·δ = r⁴ ∇²K·δ − 2(∇L·δ)∇L − 2L ∇²L·δ,   ∇²L·δ = 2∇²G·δ − p² ∇²H·δ
+//!   ∇²H·δ = (2δω₁, 2δω₂, δω₃; 0; 0)
+//!   ∇²K·δ = 2(∇X·δ)∇X + 2X ∇²X·δ + 2(∇Y·δ)∇Y + 2Y ∇²Y·δ,
+//!     ∇²X·δ = (2δω₁, −2δω₂, 0; 0; 0),  ∇²Y·δ = (2δω₂, 2δω₁, 0; 0; 0)
+//!   ∇²G·δ: the product rule on ∇G of [`super::phi_field`] (δM = (2δω₁, 2δω₂, δω₃), δA = aδα,
+//!     δB = bδβ, δP = δM·A + M·δA, δQ = δM·B + M·δB, δR = δM·(A×B) + M·(δA×B + A×δB)):
+//!     δ∂G/∂M = (δP A + P δA + δQ B + Q δB + δω₃ A×B + ω₃ (δA×B + A×δB))/2,  δ∂G/∂ω₃ += δR/2,
+//!     δ∂G/∂A = (δP M + P δM + δω₃ B×M + ω₃ (δB×M + B×δM))/2,
+//!     δ∂G/∂B = (δQ M + Q δM + δω₃ M×A + ω₃ (δM×A + M×δA))/2
+//! ```
+//!
+//! in the notation of [`super::phi_field`] (X = ω₁² − ω₂² + A₁ − B₂, Y = 2ω₁ω₂ + A₂ + B₁,
+//! L = 2G − p²H). A test (crates/closed-form/tests/phi_field.rs) compares it with the jet
+//! derivative at random states.
+//!
+//! [`phi_field`]: super::phi_field::phi_field
+//! [`phi_field_derivative_jet`]: super::phi_field::phi_field_derivative_jet
+
+use rsts_dynamics::integrals::{energy, third};
+use rsts_dynamics::state::DIM;
+use rsts_dynamics::vec3::{cross, dot};
+use rsts_dynamics::{Fields, State};
+
+use crate::manifold::distance::hamiltonian_field;
+use crate::manifold::phi_field::integral_gradients;
+
+/// What DX_Φ·δ needs of the state, computed once for every direction.
+pub struct PhiFieldDerivative {
+    state: State<f64>,
+    fields: [f64; 2],
+    /// ∇Φ, ∇L, L, r⁴, p².
+    grad_phi: [f64; DIM],
+    grad_l: [f64; DIM],
+    l: f64,
+    r4: f64,
+    p2: f64,
+    /// X, Y and their gradients.
+    x: f64,
+    y: f64,
+    grad_x: [f64; DIM],
+    grad_y: [f64; DIM],
+    /// M, A, B, P = M·A, Q = M·B, A×B.
+    m: [f64; 3],
+    big_a: [f64; 3],
+    big_b: [f64; 3],
+    p: f64,
+    q: f64,
+    axb: [f64; 3],
+    /// B×M, M×A.
+    bxm: [f64; 3],
+    mxa: [f64; 3],
+}
+
+fn add3(u: &[f64; 3], v: &[f64; 3]) -> [f64; 3] {
+    [u[0] + v[0], u[1] + v[1], u[2] + v[2]]
+}
+
+fn dot9(u: &[f64; DIM], v: &[f64; DIM]) -> f64 {
+    (0..DIM).map(|k| u[k] * v[k]).sum()
+}
+
+impl PhiFieldDerivative {
+    /// The shared terms at the state `s`.
+    pub fn new(fields: &Fields<f64>, s: &State<f64>) -> Self {
+        let (a, b) = (fields.a, fields.b);
+        let d = integral_gradients(fields, s);
+        let p2 = a * a + b * b;
+        let r2 = a * a - b * b;
+        let r4 = r2 * r2;
+        let l = 2.0 * third(fields, s) - p2 * energy(fields, s);
+        let grad_l: [f64; DIM] = std::array::from_fn(|i| 2.0 * d.g[i] - p2 * d.h[i]);
+        let grad_phi = std::array::from_fn(|i| r4 * d.k[i] - 2.0 * l * grad_l[i]);
+        let [w1, w2, w3] = s.omega;
+        let big_a = s.alpha.map(|v| a * v);
+        let big_b = s.beta.map(|v| b * v);
+        let m = [2.0 * w1, 2.0 * w2, w3];
+        Self {
+            state: s.clone(),
+            fields: [a, b],
+            grad_phi,
+            grad_l,
+            l,
+            r4,
+            p2,
+            x: w1 * w1 - w2 * w2 + big_a[0] - big_b[1],
+            y: 2.0 * w1 * w2 + big_a[1] + big_b[0],
+            grad_x: [2.0 * w1, -2.0 * w2, 0.0, a, 0.0, 0.0, 0.0, -b, 0.0],
+            grad_y: [2.0 * w2, 2.0 * w1, 0.0, 0.0, a, 0.0, b, 0.0, 0.0],
+            p: dot(&m, &big_a),
+            q: dot(&m, &big_b),
+            axb: cross(&big_a, &big_b),
+            bxm: cross(&big_b, &m),
+            mxa: cross(&m, &big_a),
+            m,
+            big_a,
+            big_b,
+        }
+    }
+
+    /// ∇²G·δ (the product rule of the module doc), as the sum of its parts linear in δω and in
+    /// (δα, δβ): a direction of the constraint surface moves one of the two only.
+    fn hessian_g(&self, delta: &[f64; DIM]) -> [f64; DIM] {
+        let [a, b] = self.fields;
+        let w3 = self.state.omega[2];
+        let (m, big_a, big_b) = (&self.m, &self.big_a, &self.big_b);
+        let (p, q, axb) = (self.p, self.q, &self.axb);
+        // (δ∂G/∂M, δ∂G/∂A, δ∂G/∂B, δR).
+        let mut g_m = [0.0; 3];
+        let mut g_a = [0.0; 3];
+        let mut g_b = [0.0; 3];
+        let mut dr = 0.0;
+        if delta[..3].iter().any(|x| *x != 0.0) {
+            let dw3 = delta[2];
+            let dm = [2.0 * delta[0], 2.0 * delta[1], dw3];
+            let (dp, dq) = (dot(&dm, big_a), dot(&dm, big_b));
+            dr = dot(&dm, axb);
+            let (bxdm, dmxa) = (cross(big_b, &dm), cross(&dm, big_a));
+            for i in 0..3 {
+                g_m[i] = dp * big_a[i] + dq * big_b[i] + dw3 * axb[i];
+                g_a[i] = dp * m[i] + p * dm[i] + dw3 * self.bxm[i] + w3 * bxdm[i];
+                g_b[i] = dq * m[i] + q * dm[i] + dw3 * self.mxa[i] + w3 * dmxa[i];
+            }
+        }
+        if delta[3..].iter().any(|x| *x != 0.0) {
+            let da = [a * delta[3], a * delta[4], a * delta[5]];
+            let db = [b * delta[6], b * delta[7], b * delta[8]];
+            let (dp, dq) = (dot(m, &da), dot(m, &db));
+            let d_axb = add3(&cross(&da, big_b), &cross(big_a, &db));
+            dr += dot(m, &d_axb);
+            let (dbxm, mxda) = (cross(&db, m), cross(m, &da));
+            for i in 0..3 {
+                g_m[i] += dp * big_a[i] + p * da[i] + dq * big_b[i] + q * db[i] + w3 * d_axb[i];
+                g_a[i] += dp * m[i] + w3 * dbxm[i];
+                g_b[i] += dq * m[i] + w3 * mxda[i];
+            }
+        }
+        [
+            g_m[0],
+            g_m[1],
+            0.5 * (g_m[2] + dr),
+            0.5 * a * g_a[0],
+            0.5 * a * g_a[1],
+            0.5 * a * g_a[2],
+            0.5 * b * g_b[0],
+            0.5 * b * g_b[1],
+            0.5 * b * g_b[2],
+        ]
+    }
+
+    /// ∇²Φ·δ.
+    fn hessian_phi(&self, delta: &[f64; DIM]) -> [f64; DIM] {
+        let [a, b] = self.fields;
+        let [w1, w2, _] = self.state.omega;
+        let (d0, d1) = (delta[0], delta[1]);
+        // ∇X·δ, ∇Y·δ (∇X, ∇Y of the module doc), ∇L·δ.
+        let dx = 2.0 * (w1 * d0 - w2 * d1) + a * delta[3] - b * delta[7];
+        let dy = 2.0 * (w2 * d0 + w1 * d1) + a * delta[4] + b * delta[6];
+        let dl = dot9(&self.grad_l, delta);
+        let hg = self.hessian_g(delta);
+        // ∇²X·δ, ∇²Y·δ and ∇²H·δ vanish beyond ω.
+        let hx = [2.0 * d0, -2.0 * d1, 0.0];
+        let hy = [2.0 * d1, 2.0 * d0, 0.0];
+        let hh = [2.0 * d0, 2.0 * d1, delta[2]];
+        std::array::from_fn(|i| {
+            let mut hk = 2.0 * (dx * self.grad_x[i] + dy * self.grad_y[i]);
+            let mut hl = 2.0 * hg[i];
+            if i < 3 {
+                hk += 2.0 * (self.x * hx[i] + self.y * hy[i]);
+                hl -= self.p2 * hh[i];
+            }
+            self.r4 * hk - 2.0 * (dl * self.grad_l[i] + self.l * hl)
+        })
+    }
+
+    /// 𝔅(δ)∇Φ: [`hamiltonian_field`] with δ for the state (bilinear), the blocks of δ that
+    /// vanish skipped.
+    fn moved(&self, delta: &[f64; DIM]) -> [f64; DIM] {
+        let g = &self.grad_phi;
+        let d_m = [0.5 * g[0], 0.5 * g[1], g[2]];
+        let mut out = [0.0; DIM];
+        if delta[..3].iter().any(|x| *x != 0.0) {
+            let m = [2.0 * delta[0], 2.0 * delta[1], delta[2]];
+            let c = cross(&m, &d_m);
+            out[..3].copy_from_slice(&[0.5 * c[0], 0.5 * c[1], c[2]]);
+        }
+        if delta[3..].iter().any(|x| *x != 0.0) {
+            let da = [delta[3], delta[4], delta[5]];
+            let db = [delta[6], delta[7], delta[8]];
+            let c = add3(
+                &cross(&da, &[g[3], g[4], g[5]]),
+                &cross(&db, &[g[6], g[7], g[8]]),
+            );
+            out[0] += 0.5 * c[0];
+            out[1] += 0.5 * c[1];
+            out[2] += c[2];
+            out[3..6].copy_from_slice(&cross(&da, &d_m));
+            out[6..9].copy_from_slice(&cross(&db, &d_m));
+        }
+        out
+    }
+
+    /// DX_Φ·δ = 𝔅(δ)∇Φ + 𝔅(x)(∇²Φ·δ).
+    pub fn along(&self, delta: &[f64; DIM]) -> [f64; DIM] {
+        let moved = self.moved(delta);
+        let turned = hamiltonian_field(&self.state, &self.hessian_phi(delta));
+        std::array::from_fn(|k| moved[k] + turned[k])
+    }
+}
+
+/// The derivative of X_Φ along six directions at a state (column j: along direction j), by the
+/// formulas of the module doc.
+pub fn phi_field_derivative(
+    fields: &Fields<f64>,
+    s: &State<f64>,
+    directions: &[[f64; DIM]; 6],
+) -> [[f64; 6]; DIM] {
+    let d = PhiFieldDerivative::new(fields, s);
+    let columns = directions.each_ref().map(|delta| d.along(delta));
+    std::array::from_fn(|k| std::array::from_fn(|j| columns[j][k]))
+}
