@@ -10,7 +10,9 @@
 //! The regular distance |X_Φ| of [`rsts_closed_form::manifold::distance`] is logged beside it.
 //! The computation runs in the integrator's precision: f64 for the f64 methods (about a µs per
 //! sample, on the projector's tabulated torus), MPFR at the integrator's digits + 32 bits
-//! otherwise (docs/stability.md says how, docs/benchmarks.md what it costs).
+//! otherwise (docs/stability.md says how, docs/benchmarks.md what it costs). The f64 samples of a
+//! chunk ([`Geometry::evaluate_f64`]) start each projection from the sample before
+//! ([`WarmStart`]): one evaluation of the torus with its derivatives per sample near N.
 
 use rsts_closed_form::manifold::distance::{field_norm, gain};
 use rsts_closed_form::manifold::{normal_type, NormalType, Projector};
@@ -82,23 +84,35 @@ impl<T: Scalar> Inner<T> {
             std::array::from_fn(|k| down(&exact[k])),
             psi_exact.clone().map(|p| down(&p)),
             &state.map(|c| c.to_f64()),
+            None,
         )
     }
 
     /// [`Inner::sample`] of the state `x`, the exact state and ψ(exact) in `T` (`state`: `x` in
-    /// f64).
+    /// f64), the projection started from ψ(exact) or from a [`WarmStart`]'s `start`.
     fn sample_in(
         &self,
         x: State<T>,
         exact: [T; DIM],
         guess: [T; 2],
         state: &State<f64>,
+        start: Option<([f64; 2], [f64; 2])>,
     ) -> SampleGeometry {
         let x_phi = field_norm(&self.fields, &x).to_f64();
         let target = x.to_array();
+        let (from, shift) = match start {
+            Some((offset, shift)) => (
+                std::array::from_fn(|i| guess[i].clone() + T::from_f64(offset[i], self.bits)),
+                shift,
+            ),
+            None => (guess.clone(), [0.0; 2]),
+        };
         // The first-order model in (δm, δh) holds for small shifts of the torus only: beyond
         // 1e-2 (an error that has saturated) there is no nearest point near the exact one.
-        match self.projector.project_within(&target, &guess, MAX_SHIFT) {
+        match self
+            .projector
+            .project_from(&target, &from, shift, MAX_SHIFT)
+        {
             Some(p) => {
                 let pi = std::f64::consts::PI;
                 let phase_error = std::array::from_fn(|i| {
@@ -309,11 +323,73 @@ pub struct GeometrySummary {
     pub error_split: Option<ErrorSplit>,
 }
 
+/// Where the projection of the next f64 sample of a chunk starts ([`Geometry::evaluate_f64`]):
+/// the phase error and the shift (δm, δh) of the sample before, when it had a nearest point
+/// within [`WARM_PHASE`] and [`WARM_SHIFT`] (its phase error added to the next sample's exact
+/// angles is within ~1e-10 of the next nearest point on the default case: one evaluation with
+/// derivatives and a chord step instead of two and one). The default: a cold start from the
+/// exact angles.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WarmStart(Option<([f64; 2], [f64; 2])>);
+
+/// A warm start follows a phase error of at most this (radians) and a shift of the torus of at
+/// most [`WARM_SHIFT`]: where the cold start from the exact angles surely finds the same nearest
+/// point. Beyond, after an error has saturated, a warm start may follow another local nearest
+/// point than the cold one (on camera V's dopri5 run of scripts/bench_check_f64.sh from a phase
+/// error of 0.27 rad on: 3171 of 10⁵ samples would change whether they have a nearest point).
+const WARM_PHASE: f64 = 1e-2;
+const WARM_SHIFT: f64 = 1e-4;
+
+impl WarmStart {
+    /// Whether the next projection starts warm.
+    pub fn is_warm(&self) -> bool {
+        self.0.is_some()
+    }
+
+    /// The start of the sample after one of geometry `g`.
+    fn after(g: &SampleGeometry) -> Self {
+        let small = |p: &[f64; 2]| {
+            p[0].abs().max(p[1].abs()) <= WARM_PHASE && g.dm.abs().max(g.dh.abs()) <= WARM_SHIFT
+        };
+        Self(g.phase_error.filter(small).map(|p| (p, [g.dm, g.dh])))
+    }
+}
+
 /// ψ⁰, ν of the exact motion and 2π in double-double.
 struct PhaseClockDd {
     psi0: [DoubleDouble; 2],
     nu: [DoubleDouble; 2],
     two_pi: DoubleDouble,
+}
+
+impl PhaseClockDd {
+    /// ψ(exact) at the f64 time `t`: ψ⁰ + νt reduced mod 2π in double-double, with the fused
+    /// multiply-add of the processor where it has one (the same numbers: an FMA rounds once
+    /// either way; without it each `mul_add` of double-double is a call to the library's).
+    fn angles(&self, t: f64) -> [f64; 2] {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("fma") {
+            // SAFETY: the processor has FMA (checked just above).
+            return unsafe { self.angles_fma(t) };
+        }
+        self.angles_portable(t)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "fma")]
+    unsafe fn angles_fma(&self, t: f64) -> [f64; 2] {
+        self.angles_portable(t)
+    }
+
+    #[inline(always)]
+    fn angles_portable(&self, t: f64) -> [f64; 2] {
+        let t = DoubleDouble::from_f64_exact(t);
+        std::array::from_fn(|i| {
+            let p = self.nu[i] * t + self.psi0[i];
+            let turns = (p / self.two_pi).floor();
+            (p - turns * self.two_pi).to_f64()
+        })
+    }
 }
 
 /// Tracks the geometry of the error along a run.
@@ -461,26 +537,24 @@ impl Geometry {
     /// [`Geometry::evaluate`] of an f64 sample (time `t`, state `x`) against the exact state in
     /// double-double: ψ(exact) = ψ⁰ + νt reduced mod 2π in double-double (106 bits; the MPFR
     /// clock's value rounded to f64 is the same but within 2⁻¹⁰⁰ of a rounding boundary).
-    /// `None` when the geometry runs in MPFR.
+    /// `None` when the geometry runs in MPFR. The projection starts from `warm` (the sample
+    /// before in the same chunk; [`WarmStart::default`]: cold), which is then this sample's.
     pub fn evaluate_f64(
         &self,
         t: f64,
         x: &[f64; DIM],
         exact: &State<DoubleDouble>,
+        warm: &mut WarmStart,
     ) -> Option<SampleGeometry> {
         let Precision::F64(inner) = &self.precision else {
             return None;
         };
-        let c = &self.clock_dd;
-        let t = DoubleDouble::from_f64_exact(t);
-        let psi_exact: [f64; 2] = std::array::from_fn(|i| {
-            let p = c.nu[i] * t + c.psi0[i];
-            let turns = (p / c.two_pi).floor();
-            (p - turns * c.two_pi).to_f64()
-        });
+        let psi_exact = self.clock_dd.angles(t);
         let exact = exact.to_array().map(|v| v.to_f64());
         let state = State::from_slice(x);
-        Some(inner.sample_in(state.clone(), exact, psi_exact, &state))
+        let g = inner.sample_in(state.clone(), exact, psi_exact, &state, warm.0);
+        *warm = WarmStart::after(&g);
+        Some(g)
     }
 
     /// Record the next sample's geometry from [`Geometry::evaluate`] (what
@@ -563,4 +637,40 @@ fn split(s: &Series, normal: &NormalSummary, phase: &PhaseErrorSummary) -> Optio
         .to_string(),
         summary,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The clock of f64 samples gives the same angles, bit for bit, with and without FMA.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn the_clock_is_the_same_with_and_without_fma() {
+        if !std::arch::is_x86_feature_detected!("fma") {
+            eprintln!("skipped: this processor has no FMA");
+            return;
+        }
+        let dd = DoubleDouble::from_f64_exact;
+        let c = PhaseClockDd {
+            psi0: [dd(0.4), dd(1.3)],
+            nu: [dd(1.234_567_890_123), dd(0.987_654_321_987)],
+            two_pi: DoubleDouble::pi(106) * dd(2.0),
+        };
+        let mut seed = 30u64;
+        for k in 0..20_000 {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let u = (seed >> 11) as f64 / (1u64 << 53) as f64;
+            let t = u * 10f64.powi(k % 10);
+            // SAFETY: the processor has FMA (checked above).
+            let fma = unsafe { c.angles_fma(t) };
+            assert_eq!(
+                fma.map(f64::to_bits),
+                c.angles_portable(t).map(f64::to_bits),
+                "t = {t}"
+            );
+        }
+    }
 }

@@ -197,3 +197,68 @@ fn an_mpfr_run_is_measured_in_its_own_precision() {
         .collect();
     assert!(with.len() >= 36 && with.len() < 41, "{with:?}");
 }
+
+/// The warm start of the f64 geometry (each sample of a chunk projected from the nearest point
+/// of the one before, `Geometry::evaluate_f64`) gives the samples of a dopri5 run of camera V
+/// (m < 0, its error grows like e^{0.23 t} and saturates) the nearest points of the cold start
+/// from the exact angles, to the round-off, and to the same samples: after the error has
+/// saturated, a warm start from a large phase error would find other nearest points.
+#[test]
+fn the_warm_start_finds_the_nearest_points_of_the_cold_start() {
+    use rsts_dynamics::integrators::Problem;
+    use rsts_dynamics::scalar::DoubleDouble;
+    use rsts_harness::geometry::{Geometry, WarmStart};
+    use rsts_harness::Integrator;
+    let c = case(-0.7092, 1.5643, 150.0, 3001);
+    let a = Analysis::for_case(&c, BITS, info(15)).unwrap();
+    let (motion, fields) = c.reference_motion(BITS).unwrap();
+    let ts: Vec<f64> = times(&c).iter().map(|t| t.to_f64()).collect();
+    let problem = Problem {
+        fields,
+        initial: a.exact_state(&Float::with_val(BITS, 0)),
+    };
+    let run = config(MethodName::Dopri5, 1e-9)
+        .integrate(&problem, &ts)
+        .unwrap();
+    let geometry = Geometry::new(&motion, 15).unwrap();
+    let mut warm = WarmStart::default();
+    let (mut with, mut without, mut warm_starts) = (0, 0, 0);
+    let mut largest = [0.0f64; 5];
+    for (k, (t, state)) in ts.iter().zip(&run.states).enumerate() {
+        if k % 64 == 0 {
+            warm = WarmStart::default();
+        }
+        warm_starts += usize::from(warm.is_warm());
+        let exact = a
+            .exact_state(&Float::with_val(BITS, *t))
+            .map(DoubleDouble::from_float);
+        let x: [f64; 9] = state.map(|v| v.to_f64()).to_array();
+        let g = geometry.evaluate_f64(*t, &x, &exact, &mut warm).unwrap();
+        let cold = geometry
+            .evaluate_f64(*t, &x, &exact, &mut WarmStart::default())
+            .unwrap();
+        match (g.phase_error, cold.phase_error) {
+            (Some(p), Some(q)) => {
+                let gaps = [
+                    (p[0] - q[0]).abs().max((p[1] - q[1]).abs()),
+                    (g.dm - cold.dm).abs().max((g.dh - cold.dh).abs()),
+                    (g.distance_from_n - cold.distance_from_n).abs(),
+                    (g.along_n - cold.along_n).abs(),
+                    (g.x_phi - cold.x_phi).abs(),
+                ];
+                for (l, d) in largest.iter_mut().zip(gaps) {
+                    *l = l.max(d);
+                }
+                assert!(gaps.iter().all(|d| *d < 1e-12), "t = {t}: {gaps:?}");
+                with += 1;
+            }
+            (None, None) => without += 1,
+            (p, q) => panic!("t = {t}: warm {p:?}, cold {q:?}"),
+        }
+    }
+    eprintln!(
+        "{with} samples with a nearest point ({warm_starts} warm starts), {without} without; \
+         largest |Δψ|, |Δ(δm, δh)|, |Δdistance|, |Δalong|, |ΔX_Φ|: {largest:?}"
+    );
+    assert!(with >= 500 && without >= 500 && warm_starts * 2 >= with);
+}

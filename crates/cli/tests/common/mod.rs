@@ -211,3 +211,8 @@ pub fn whole_check(
     .unwrap();
     serde_json::to_value(&whole).unwrap()
 }
+
+#[path = "../../../harness/tests/support/geometry_digits.rs"]
+mod geometry_digits;
+#[allow(unused_imports)] // each test file uses a subset of this module
+pub use geometry_digits::assert_same_but_the_geometrys_last_digits;

@@ -20,7 +20,8 @@
 //! Gauss–Newton steps, and ∂C/∂m, ∂C/∂h, which multiply the small δm, δh) are evaluated in f64,
 //! so each step gains the 16 digits of f64 and the solution is that of the exact equations; a
 //! first pass runs wholly in f64. At 30 digits this costs a few evaluations of the closed form
-//! per state.
+//! per state. Along a run, [`Projector::project_from`] starts from the nearest point of the
+//! sample before (a warm start: one evaluation with derivatives and a chord step per sample).
 
 use rsts_dynamics::jet::Jet;
 use rsts_dynamics::scalar::DoubleDouble;
@@ -57,6 +58,9 @@ pub struct Projection<T> {
     pub point: [T; DIM],
     /// max over the components of |state − point|: the departure from N.
     pub departure: T,
+    /// Evaluations of the torus with its derivatives in the f64 pass (the cost: two from the
+    /// exact angles on the default case, one from a warm start, [`Projector::project_from`]).
+    pub jacobians: u32,
 }
 
 /// After step k + 1 of the f64 iteration, [`Projector::project_within`] gives up on a shift
@@ -168,14 +172,30 @@ impl<T: Real> Projector<T> {
         guess: &[T; 2],
         bound: f64,
     ) -> Option<Projection<T>> {
+        self.project_from(target, guess, [0.0; 2], bound)
+    }
+
+    /// [`Projector::project_within`] from the angles `guess` and the shift (δm, δh) `shift`: a
+    /// warm start from the nearest point of the sample before (its phase error added to this
+    /// sample's exact angles, its shift), where the first step is already below [`CHORD`] and
+    /// one evaluation with derivatives and a chord step converge. The same nearest point to
+    /// the round-off (tests/projector.rs, `a_warm_start_finds_the_nearest_point_of_a_cold_one`).
+    pub fn project_from(
+        &self,
+        target: &[T; DIM],
+        guess: &[T; 2],
+        shift: [f64; 2],
+        bound: f64,
+    ) -> Option<Projection<T>> {
         let high = target[0].prec() > 53;
         // First pass in f64.
         let target64 = target.clone().map(|x| x.to_f64());
         let mut x64 = Unknowns {
             psi: guess.clone().map(|p| p.to_f64()),
-            dm: 0.0,
-            dh: 0.0,
+            dm: shift[0],
+            dh: shift[1],
         };
+        let mut jacobians = 0;
         let mut last: Option<LeastSquares> = None;
         let mut previous = f64::INFINITY;
         // C(ψ) at the final angles, predicted from the last evaluation when the last step was
@@ -193,6 +213,7 @@ impl<T: Real> Projector<T> {
                 }
                 _ => {
                     let d = self.derivatives(&x64.psi);
+                    jacobians += 1;
                     (d.value, LeastSquares::new(&d.columns)?)
                 }
             };
@@ -290,6 +311,7 @@ impl<T: Real> Projector<T> {
             point,
             dm: x.dm,
             dh: x.dh,
+            jacobians,
         })
     }
 }

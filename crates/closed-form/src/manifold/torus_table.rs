@@ -43,8 +43,9 @@ struct Curve {
     cells: usize,
     width: f64,
     inv_width: f64,
-    /// Per cell, per function, the coefficients of t⁰ … t^DEGREE in t = 2(ψ − centre)/width.
-    coef: Vec<[[f64; TERMS]; FUNCTIONS]>,
+    /// Per cell, the coefficients of t⁰ … t^DEGREE in t = 2(ψ − centre)/width, each of the
+    /// nine functions' (power by power: the nine polynomials evaluated side by side).
+    coef: Vec<[[f64; FUNCTIONS]; TERMS]>,
 }
 
 impl std::fmt::Debug for Curve {
@@ -159,7 +160,7 @@ impl Curve {
                     scale[f] = scale[f].max(v[f].to_f64().abs());
                 }
             }
-            coef.push(c);
+            coef.push(std::array::from_fn(|n| std::array::from_fn(|f| c[f][n])));
             tails.push(tail);
         }
         // Values at the round-off of their samples; ∂/∂m, ∂/∂h to 1e-12.
@@ -178,10 +179,16 @@ impl Curve {
 
     /// The cell of ψ and t ∈ [−1, 1] in it.
     #[inline(always)]
-    fn locate(&self, psi: f64) -> (&[[f64; TERMS]; FUNCTIONS], f64) {
-        let j = (psi * self.inv_width).floor();
+    fn locate(&self, psi: f64) -> (&[[f64; FUNCTIONS]; TERMS], f64) {
+        // ⌊x⌋ without the library's `floor` (a call without SSE4.1): exact for |x| < 2⁵³.
+        let x = psi * self.inv_width;
+        let mut k = x as i64;
+        if k as f64 > x {
+            k -= 1;
+        }
+        let j = k as f64;
         let t = (psi - (j + 0.5) * self.width) * (2.0 * self.inv_width);
-        let cell = (j as i64).rem_euclid(self.cells as i64) as usize;
+        let cell = k.rem_euclid(self.cells as i64) as usize;
         (&self.coef[cell], t)
     }
 
@@ -189,7 +196,7 @@ impl Curve {
     #[inline(always)]
     fn point(&self, psi: f64) -> SeparatedPoint<f64> {
         let (c, t) = self.locate(psi);
-        let [v, f, g] = std::array::from_fn(|k| horner(&c[k], t));
+        let [v, f, g] = horner::<3>(c, t);
         SeparatedPoint { v, f, g }
     }
 
@@ -198,32 +205,50 @@ impl Curve {
     fn jet_point(&self, i: usize, psi: f64) -> SeparatedPoint<Jet<f64, 4>> {
         let (c, t) = self.locate(psi);
         let d_psi = 2.0 * self.inv_width;
+        let (p, slope) = horner_slope(c, t);
         let [v, f, g] = std::array::from_fn(|k| {
-            let (value, slope) = horner_slope(&c[k], t);
             let mut eps = [0.0; 4];
-            eps[i] = slope * d_psi;
-            eps[2] = horner(&c[3 + k], t);
-            eps[3] = horner(&c[6 + k], t);
-            Jet { re: value, eps }
+            eps[i] = slope[k] * d_psi;
+            eps[2] = p[3 + k];
+            eps[3] = p[6 + k];
+            Jet { re: p[k], eps }
         });
         SeparatedPoint { v, f, g }
     }
 }
 
-/// Σ cₙtⁿ.
+/// Σ cₙtⁿ of the first `N` functions, side by side (each the Horner scheme from cₙ at the top:
+/// the same operations per polynomial as one at a time).
 #[inline(always)]
-fn horner(c: &[f64; TERMS], t: f64) -> f64 {
-    c.iter().rev().fold(0.0, |acc, &x| acc * t + x)
+fn horner<const N: usize>(c: &[[f64; FUNCTIONS]; TERMS], t: f64) -> [f64; N] {
+    let mut acc = [0.0; N];
+    for cn in c.iter().rev() {
+        for (a, x) in acc.iter_mut().zip(cn) {
+            *a = *a * t + x;
+        }
+    }
+    acc
 }
 
-/// Σ cₙtⁿ and its derivative in t.
+/// Σ cₙtⁿ of all nine functions, and the derivative in t of the first three (v, F, G).
 #[inline(always)]
-fn horner_slope(c: &[f64; TERMS], t: f64) -> (f64, f64) {
-    let mut p = c[DEGREE];
-    let mut d = 0.0;
-    for &x in c[..DEGREE].iter().rev() {
-        d = d * t + p;
-        p = p * t + x;
+fn horner_slope(c: &[[f64; FUNCTIONS]; TERMS], t: f64) -> ([f64; FUNCTIONS], [f64; 3]) {
+    // The top coefficient: v, F, G's as they are, the others' through 0·t + c (as `horner`).
+    let mut p: [f64; FUNCTIONS] = std::array::from_fn(|f| {
+        if f < 3 {
+            c[DEGREE][f]
+        } else {
+            0.0 * t + c[DEGREE][f]
+        }
+    });
+    let mut d = [0.0; 3];
+    for cn in c[..DEGREE].iter().rev() {
+        for (dk, pk) in d.iter_mut().zip(&p) {
+            *dk = *dk * t + pk;
+        }
+        for (a, x) in p.iter_mut().zip(cn) {
+            *a = *a * t + x;
+        }
     }
     (p, d)
 }

@@ -13,6 +13,7 @@ use rsts_dynamics::State;
 
 use super::f64_errors::{f64_sample_errors, state_array};
 use super::{Analysis, DdMeasure, Evaluated, Observer};
+use crate::geometry::WarmStart;
 use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
 use crate::HarnessError;
 
@@ -52,11 +53,13 @@ impl Analysis {
                     unreachable!("checked above")
                 };
                 let exact = dd.states(ts);
+                // The projector of each sample starts from the one before (the first: cold).
+                let mut warm = WarmStart::default();
                 out.extend(
                     ts.iter()
                         .zip(xs)
                         .zip(exact)
-                        .map(|((t, x), e)| me.evaluate_f64(m, *t, x, e, wanted)),
+                        .map(|((t, x), e)| me.evaluate_f64(m, *t, x, e, wanted, &mut warm)),
                 );
             },
             |t, _| (*t, None),
@@ -74,12 +77,13 @@ impl Analysis {
         x: &[f64; DIM],
         exact: State<DoubleDouble>,
         snapshots: bool,
+        warm: &mut WarmStart,
     ) -> Evaluated {
         let (errors, snapshots, digits) = measure(m, &exact, x, self.digits.ratio(), snapshots);
         let geometry = self
             .geometry
             .as_ref()
-            .and_then(|g| g.evaluate_f64(t, x, &exact));
+            .and_then(|g| g.evaluate_f64(t, x, &exact, warm));
         Evaluated {
             exact: None,
             errors,
