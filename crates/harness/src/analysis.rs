@@ -320,6 +320,12 @@ impl Analysis {
         )
     }
 
+    /// Whether f64 data are measured in double-double ([`Analysis::sample_all_f64`] without
+    /// widening them to MPFR): data of at most 16 digits.
+    pub(crate) fn measures_in_dd(&self) -> bool {
+        self.dd.is_some() && self.dd_measure.is_some()
+    }
+
     /// The batch loop of [`Analysis::sample_all`] and [`Analysis::sample_all_f64`]: each batch
     /// evaluated in parallel, `chunk` samples at a time (`evaluate(self, times, states,
     /// snapshots, out)` appends one [`Evaluated`] per sample to `out`, in order), then recorded

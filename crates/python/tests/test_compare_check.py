@@ -23,32 +23,6 @@ def without_timing(report):
             if k not in ("integration_seconds", "wall_seconds", "environment")}
 
 
-def assert_same_but_the_geometrys_last_digits(got, expected):
-    """The same report but for the last digits of the geometry's numbers (normal, phase_error,
-    error_split): `rsts check` of f64 data starts each projection from the sample before (a
-    warm start), the library's check of the same arrays from the exact angles
-    (crates/harness/tests/support/geometry_digits.rs: the same tolerances)."""
-    geometry = ("normal", "phase_error", "error_split")
-
-    def close(a, b, at):
-        if isinstance(a, dict) and isinstance(b, dict):
-            assert list(a) == list(b), at
-            for k in a:
-                close(a[k], b[k], f"{at}.{k}")
-        elif (isinstance(a, (int, float)) and isinstance(b, (int, float))
-              and not isinstance(a, bool) and not isinstance(b, bool)):
-            rel = 1e-2 if "growth" in at else 1e-8
-            assert abs(a - b) <= rel * max(abs(a), abs(b)) + 1e-15, (at, a, b)
-        else:
-            assert a == b, (at, a, b)
-
-    assert list(got) == list(expected)
-    assert ({k: v for k, v in got.items() if k not in geometry}
-            == {k: v for k, v in expected.items() if k not in geometry})
-    for key in geometry:
-        close(got[key], expected[key], key)
-
-
 def test_compare_builtin_is_the_cli_report(cli_json):
     args = dict(t_end=10.0, samples=101, rtol=1e-8, atol=1e-8)
     expected = cli_json("compare", "--method", "dopri5", "--t-end", 10, "--samples", 101,
@@ -106,7 +80,7 @@ def test_check_is_the_cli_report(cli_json, tmp_path):
         got = rsts.check(times, states, 1.0, 0.5, name="traj.npy", **kwargs)
         assert list(got) == list(expected)
         assert got["file"] == "<arrays>"
-        assert_same_but_the_geometrys_last_digits(dict(got, file=None), dict(expected, file=None))
+        assert dict(got, file=None) == dict(expected, file=None)
         assert got["case"]["identified"] == (not given)
     # The user's assertion of docs/python.md, and one that fails on a perturbed trajectory.
     assert rsts.check(times, states)["max_state_error"] < 1e-8
