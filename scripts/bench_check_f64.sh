@@ -3,7 +3,8 @@
 # alternated in one run: the reference rows of the README's default case (CSV and npy), a dopri5
 # trajectory of the default case (camera I+, its error stays small: every sample has a nearest
 # point on N) and one of camera V's third torus (m < 0, its error saturates), rtol = atol = 1e-9,
-# CSV, 10⁵ rows each, --jobs 1.
+# CSV, and the reference rows of camera V's third torus (npy and CSV), 10⁵ rows each, --jobs 1.
+# User CPU time from bash's `time` (getrusage, to the millisecond: 0.01 µs per sample).
 # Prints a markdown table (user CPU µs per sample, the best of the rounds; whether the JSON of
 # the two binaries is identical) with the load average; files under out/bench-check-f64/.
 # Usage: [BEFORE=path/to/old/rsts] bash scripts/bench_check_f64.sh [ROUNDS]
@@ -27,21 +28,26 @@ $A integrate --omega=-1.0788400339538464,-0.3702277283006931,0 \
 $A integrate --omega=-0.17131207221604822,0,1.2580177644422093 \
     --alpha=0.6956521739130435,0,-0.7183787670373176 --beta=0,1,0 \
     --t-end 1000 --samples $n --method dopri5 --rtol 1e-9 --atol 1e-9 --format csv > "$D/dopri5-default.csv"
-declare -A args=([ref.csv]="--m 0.3 --h -0.375" [ref.npy]="--m 0.3 --h -0.375" [dopri5-default.csv]="" [dopri5.csv]="")
+V="--m -0.7092 --h 1.5643 --torus 2"
+# shellcheck disable=SC2086
+$A reference $V --t-end 1000 --samples $n --format csv -o "$D/v.csv"
+# shellcheck disable=SC2086
+$A reference $V --t-end 1000 --samples $n --format npy -o "$D/v.npy"
+declare -A args=([ref.csv]="--m 0.3 --h -0.375" [ref.npy]="--m 0.3 --h -0.375" [dopri5-default.csv]="" [dopri5.csv]=""
+    [v.npy]="$V" [v.csv]="$V")
 
 # user BINARY FILE TAG: user CPU seconds of one check (its JSON kept as FILE.TAG.json).
 user() {
+    local TIMEFORMAT=%3U
     # shellcheck disable=SC2086
-    /usr/bin/time -f %U -o "$D/time.txt" "$1" check "$D/$2" ${args[$2]} --format json --jobs 1 \
-        > "$D/$2.$3.json"
-    cat "$D/time.txt"
+    { time "$1" check "$D/$2" ${args[$2]} --format json --jobs 1 > "$D/$2.$3.json" 2> /dev/null; } 2>&1
 }
 
 echo "load average before: $(cut -d' ' -f1-3 /proc/loadavg); $(date -u +%Y-%m-%dT%H:%MZ)"
 echo
 echo "| data (10⁵ rows) | before µs/sample (user) | after µs/sample (user) | same JSON |"
 echo "|---|---|---|---|"
-for f in ref.npy ref.csv dopri5-default.csv dopri5.csv; do
+for f in ref.npy ref.csv dopri5-default.csv dopri5.csv v.npy v.csv; do
     best_a=inf
     best_b=inf
     for ((r = 0; r < rounds; r++)); do
