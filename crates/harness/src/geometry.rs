@@ -495,7 +495,10 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     fn the_clock_is_the_same_with_and_without_fma() {
         if !std::arch::is_x86_feature_detected!("fma") {
-            eprintln!("skipped: this processor has no FMA");
+            rsts_io::report_skip(
+                "the_clock_is_the_same_with_and_without_fma",
+                "this processor has no FMA",
+            );
             return;
         }
         let dd = DoubleDouble::from_f64_exact;
