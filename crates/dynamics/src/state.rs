@@ -30,10 +30,22 @@ pub struct State<T> {
 }
 
 impl<T: Real> State<T> {
-    /// The state as a phase vector (ω₁, ω₂, ω₃, α₁, α₂, α₃, β₁, β₂, β₃).
+    /// The state as a phase vector (ω₁, ω₂, ω₃, α₁, α₂, α₃, β₁, β₂, β₃). Written out, without
+    /// a closure, so that it inlines into a caller built with other CPU features (FMA).
+    #[inline(always)]
     pub fn to_array(&self) -> [T; DIM] {
-        let v = [&self.omega, &self.alpha, &self.beta];
-        std::array::from_fn(|k| v[k / 3][k % 3].clone())
+        let (w, a, b) = (&self.omega, &self.alpha, &self.beta);
+        [
+            w[0].clone(),
+            w[1].clone(),
+            w[2].clone(),
+            a[0].clone(),
+            a[1].clone(),
+            a[2].clone(),
+            b[0].clone(),
+            b[1].clone(),
+            b[2].clone(),
+        ]
     }
 
     pub fn from_slice(x: &[T]) -> Self {

@@ -35,7 +35,7 @@ pub(crate) fn f64_sample_errors(
     exact: &State<Dd>,
     x: &[f64; 9],
 ) -> (SampleErrors, [Dd; 9]) {
-    let y = state_array(exact);
+    let y = exact.to_array();
     let mut delta = [Dd::ZERO; 9];
     let mut d = [Dd::ZERO; 9];
     let mut state_error = Dd::ZERO;
@@ -62,13 +62,6 @@ pub(crate) fn f64_sample_errors(
         phase_error: [f64::NAN; 2],
     };
     (errors, d)
-}
-
-/// The state as a phase vector ([`State::to_array`] without its closure).
-#[inline(always)]
-pub(crate) fn state_array(s: &State<Dd>) -> [Dd; 9] {
-    let (w, a, b) = (&s.omega, &s.alpha, &s.beta);
-    [w[0], w[1], w[2], a[0], a[1], a[2], b[0], b[1], b[2]]
 }
 
 /// v/2, exactly.

@@ -11,7 +11,7 @@ use rsts_dynamics::scalar::DoubleDouble;
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::State;
 
-use super::f64_errors::{f64_sample_errors, state_array};
+use super::f64_errors::f64_sample_errors;
 use super::{Analysis, DdMeasure, Evaluated, Observer};
 use crate::geometry::WarmStart;
 use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
@@ -140,7 +140,7 @@ pub(super) fn measure_portable(
     snapshots: bool,
 ) -> Measured {
     let (errors, d) = f64_sample_errors(&m.fields, &m.n, &m.initial_integrals, exact, x);
-    let digits = crate::digits::of_differences(&d, &state_array(exact), ratio);
+    let digits = crate::digits::of_differences(&d, &exact.to_array(), ratio);
     let snapshots = if snapshots {
         let state = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
         let (_, s) = sample_errors(&m.fields, &m.n, &m.initial_integrals, exact, &state, true);
