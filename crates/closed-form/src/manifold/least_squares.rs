@@ -4,14 +4,24 @@
 //! arithmetic is that of the generic [`gauss_newton_step`], operation for operation, so a step
 //! is the same bit for bit (test below).
 //!
+//! The Jacobian is held by rows (stop 31): row k is (∂C_k/∂ψ₁, ∂C_k/∂ψ₂, ∂C_k/∂m, ∂C_k/∂h), the
+//! four derivative lanes of the jet the table evaluates ([`TorusTable::state_and_rows`]), one
+//! AVX2 register. JᵀJ is then the sum over k of the outer products of the rows and Jᵀr that of
+//! the rows times r_k, each entry summed in the order of the generic step's dot products (from
+//! 0, k = 0 … 8): the same numbers, four entries per vector operation.
+//!
 //! [`gauss_newton_step`]: super::torus_map::gauss_newton_step
+//! [`TorusTable::state_and_rows`]: super::torus_table::TorusTable
 
 use rsts_dynamics::state::DIM;
 
-/// Four Jacobian columns and the elimination of their normal matrix.
+/// The Jacobian by rows: ∂C_k/∂(ψ₁, ψ₂, m, h) for each component k of the state.
+pub(crate) type Rows = [[f64; 4]; DIM];
+
+/// Four Jacobian columns (held by rows) and the elimination of their normal matrix.
 #[derive(Clone, Debug)]
 pub(crate) struct LeastSquares {
-    columns: [[f64; DIM]; 4],
+    rows: Rows,
     /// The upper triangle after elimination.
     upper: [[f64; 4]; 4],
     /// The row swapped into place at each column, and the multipliers of each row.
@@ -19,26 +29,29 @@ pub(crate) struct LeastSquares {
     factors: [[f64; 4]; 4],
 }
 
-/// Σ uₖvₖ in order, from 0 (as the generic step adds).
-#[inline(always)]
-fn dot(u: &[f64; DIM], v: &[f64; DIM]) -> f64 {
-    let mut acc = 0.0;
-    for k in 0..DIM {
-        acc += u[k] * v[k];
-    }
-    acc
+/// The rows of the Jacobian with columns `columns`.
+pub(crate) fn rows_of(columns: &[[f64; DIM]; 4]) -> Rows {
+    std::array::from_fn(|k| std::array::from_fn(|i| columns[i][k]))
+}
+
+/// The columns of the Jacobian with rows `rows`.
+pub(crate) fn columns_of(rows: &Rows) -> [[f64; DIM]; 4] {
+    std::array::from_fn(|i| std::array::from_fn(|k| rows[k][i]))
 }
 
 impl LeastSquares {
-    /// The elimination for the columns, or `None` when JᵀJ is singular.
+    /// The elimination for the Jacobian `rows`, or `None` when JᵀJ is singular.
     #[allow(clippy::needless_range_loop)] // the index ranges are the elimination's
-    pub(crate) fn new(columns: &[[f64; DIM]; 4]) -> Option<Self> {
-        // Symmetric (uₖvₖ = vₖuₖ in floating point): the upper triangle mirrored.
+    #[inline(always)]
+    pub(crate) fn new(rows: &Rows) -> Option<Self> {
+        // (JᵀJ)ᵢⱼ = Σₖ Jₖᵢ·Jₖⱼ in order of k, from 0 (uₖvₖ = vₖuₖ in floating point: the
+        // matrix is symmetric bit for bit).
         let mut a = [[0.0; 4]; 4];
-        for i in 0..4 {
-            for j in i..4 {
-                a[i][j] = dot(&columns[i], &columns[j]);
-                a[j][i] = a[i][j];
+        for row in rows {
+            for i in 0..4 {
+                for j in 0..4 {
+                    a[i][j] += row[i] * row[j];
+                }
             }
         }
         let mut pivots = [0; 4];
@@ -66,7 +79,7 @@ impl LeastSquares {
             }
         }
         Some(Self {
-            columns: *columns,
+            rows: *rows,
             upper: a,
             pivots,
             factors,
@@ -74,8 +87,16 @@ impl LeastSquares {
     }
 
     /// The step δ for the residual r.
+    #[inline(always)]
     pub(crate) fn step(&self, r: &[f64; DIM]) -> [f64; 4] {
-        let mut y: [f64; 4] = std::array::from_fn(|i| -dot(&self.columns[i], r));
+        // −(Jᵀr)ᵢ = −Σₖ Jₖᵢ·rₖ in order of k, from 0.
+        let mut jtr = [0.0; 4];
+        for (row, rk) in self.rows.iter().zip(r) {
+            for (y, j) in jtr.iter_mut().zip(row) {
+                *y += j * rk;
+            }
+        }
+        let mut y = jtr.map(|v| -v);
         for col in 0..4 {
             y.swap(col, self.pivots[col]);
             for row in col + 1..4 {
@@ -94,9 +115,10 @@ impl LeastSquares {
         x
     }
 
-    /// The columns the elimination is of.
-    pub(crate) fn columns(&self) -> &[[f64; DIM]; 4] {
-        &self.columns
+    /// The Jacobian the elimination is of, by rows.
+    #[inline(always)]
+    pub(crate) fn rows(&self) -> &Rows {
+        &self.rows
     }
 }
 
@@ -123,7 +145,7 @@ mod tests {
             }
             let r: [f64; DIM] = std::array::from_fn(|_| next() * 1e-3);
             let generic = gauss_newton_step(columns.each_ref(), &r);
-            let own = LeastSquares::new(&columns).map(|l| l.step(&r));
+            let own = LeastSquares::new(&rows_of(&columns)).map(|l| l.step(&r));
             match (generic, own) {
                 (Some(g), Some(o)) => assert_eq!(g.map(f64::to_bits), o.map(f64::to_bits)),
                 (None, None) => {}

@@ -29,7 +29,7 @@ use rsts_dynamics::state::DIM;
 use rsts_dynamics::Real;
 
 use crate::error::ClosedFormError;
-use crate::manifold::least_squares::LeastSquares;
+use crate::manifold::least_squares::{columns_of, rows_of, LeastSquares, Rows};
 use crate::manifold::torus_map::{gauss_newton_step, max_gap, seeded_mh, wrap, TorusMap};
 use crate::manifold::torus_table::TorusTable;
 use crate::motion::{ExplicitMotion, TorusChoice};
@@ -82,10 +82,11 @@ struct Unknowns<T> {
     dh: T,
 }
 
-/// Derivatives at one point, in f64: ∂C/∂ψ₁, ∂C/∂ψ₂, ∂C/∂m, ∂C/∂h, and C(ψ) itself.
+/// Derivatives at one point, in f64: ∂C/∂ψ₁, ∂C/∂ψ₂, ∂C/∂m, ∂C/∂h (by rows: those of each
+/// component), and C(ψ) itself.
 struct Derivatives {
     value: [f64; DIM],
-    columns: [[f64; DIM]; 4],
+    rows: Rows,
 }
 
 impl<T: Real> Projector<T> {
@@ -132,20 +133,30 @@ impl<T: Real> Projector<T> {
 
     fn derivatives(&self, psi: &[f64; 2]) -> Derivatives {
         if let Some(table) = &self.table {
-            let (value, columns) = table.state_and_derivatives(psi);
-            return Derivatives { value, columns };
+            let (value, rows) = table.state_and_rows(psi);
+            return Derivatives { value, rows };
         }
         Derivatives {
             value: self.map.state_at(psi),
-            columns: self.agm_derivatives(psi),
+            rows: rows_of(&self.agm_derivatives(psi)),
         }
+    }
+
+    /// C(ψ) and the elimination of the Gauss–Newton step with its Jacobian (`None`: singular).
+    #[inline]
+    fn system(&self, psi: &[f64; 2]) -> ([f64; DIM], Option<LeastSquares>) {
+        if let Some(table) = &self.table {
+            return table.state_and_system(psi);
+        }
+        let d = self.derivatives(psi);
+        (d.value, LeastSquares::new(&d.rows))
     }
 
     /// C(ψ) + ∂C/∂m·δm + ∂C/∂h·δh with the derivatives `d`.
     fn point(&self, x: &Unknowns<T>, base: [T; DIM], d: &Derivatives) -> [T; DIM] {
         let lit = |v: f64| x.dm.lit(v);
         std::array::from_fn(|k| {
-            base[k].clone() + lit(d.columns[2][k]) * &x.dm + lit(d.columns[3][k]) * &x.dh
+            base[k].clone() + lit(d.rows[k][2]) * &x.dm + lit(d.rows[k][3]) * &x.dh
         })
     }
 
@@ -212,14 +223,14 @@ impl<T: Real> Projector<T> {
                     (table.state_at(&x64.psi), system)
                 }
                 _ => {
-                    let d = self.derivatives(&x64.psi);
+                    let (value, system) = self.system(&x64.psi);
                     jacobians += 1;
-                    (d.value, LeastSquares::new(&d.columns)?)
+                    (value, system?)
                 }
             };
-            let columns = system.columns();
+            let rows = system.rows();
             let r: [f64; DIM] = std::array::from_fn(|k| {
-                value[k] + columns[2][k] * x64.dm + columns[3][k] * x64.dh - target64[k]
+                value[k] + rows[k][2] * x64.dm + rows[k][3] * x64.dh - target64[k]
             });
             let step = system.step(&r);
             let size = step[0].abs().max(step[1].abs());
@@ -231,7 +242,7 @@ impl<T: Real> Projector<T> {
                 if size <= 64.0 * f64::EPSILON {
                     // C(ψ + δψ) = C(ψ) + ∂C/∂ψ·δψ to O(δψ²) ~ 1e-27.
                     predicted = Some(std::array::from_fn(|k| {
-                        value[k] + columns[0][k] * step[0] + columns[1][k] * step[1]
+                        value[k] + rows[k][0] * step[0] + rows[k][1] * step[1]
                     }));
                 }
                 last = Some(system);
@@ -261,10 +272,10 @@ impl<T: Real> Projector<T> {
         let mut d = if high {
             self.derivatives(&x64.psi)
         } else {
-            let columns = *last?.columns();
+            let rows = *last?.rows();
             Derivatives {
                 value: [0.0; DIM],
-                columns,
+                rows,
             }
         };
         let base = match (&self.table, high, predicted) {
@@ -279,7 +290,7 @@ impl<T: Real> Projector<T> {
             for _ in 0..12 {
                 let r: [f64; DIM] =
                     std::array::from_fn(|k| (point[k].clone() - &target[k]).to_f64());
-                let step = gauss_newton_step(d.columns.each_ref(), &r)?;
+                let step = gauss_newton_step(columns_of(&d.rows).each_ref(), &r)?;
                 let size = step[0].abs().max(step[1].abs());
                 x.psi = [
                     x.psi[0].clone() + lift(step[0]),

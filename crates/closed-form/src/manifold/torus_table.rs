@@ -22,7 +22,9 @@ use rsts_dynamics::state::DIM;
 use rsts_dynamics::Real;
 
 use crate::formulas::{body_state, BodyState, FormulaConstants, SeparatedCoordinates};
+use crate::manifold::least_squares::{columns_of, LeastSquares, Rows};
 use crate::manifold::torus_map::TorusMap;
+use crate::motion::BatchPath;
 use crate::separated::SeparatedPoint;
 
 /// Degree of the polynomial on a cell.
@@ -62,6 +64,8 @@ pub struct TorusTable {
     formula: FormulaConstants<Jet<f64, 4>>,
     /// Their values.
     plain: FormulaConstants<f64>,
+    /// The build of [`TorusTable::state_and_system`] this CPU runs.
+    path: BatchPath,
 }
 
 /// The Chebyshev points x_k = cos(π(k + ½)/TERMS) of [−1, 1] and T_j(x_k), in double-double.
@@ -289,6 +293,7 @@ impl TorusTable {
             curves,
             formula,
             plain,
+            path: BatchPath::detect(),
         })
     }
 
@@ -313,6 +318,14 @@ impl TorusTable {
     /// The state at (ψ₁, ψ₂) and its derivatives ∂/∂ψ₁, ∂/∂ψ₂, ∂/∂m, ∂/∂h (at fixed angles).
     #[inline]
     pub fn state_and_derivatives(&self, psi: &[f64; 2]) -> ([f64; DIM], [[f64; DIM]; 4]) {
+        let (value, rows) = self.state_and_rows(psi);
+        (value, columns_of(&rows))
+    }
+
+    /// [`TorusTable::state_and_derivatives`] with the derivatives by rows: the four lanes of
+    /// each component's jet.
+    #[inline(always)]
+    pub(crate) fn state_and_rows(&self, psi: &[f64; 2]) -> ([f64; DIM], Rows) {
         let p = SeparatedCoordinates::new(
             self.curves[0].jet_point(0, psi[0]),
             self.curves[1].jet_point(1, psi[1]),
@@ -320,7 +333,101 @@ impl TorusTable {
         let x = phase_vector(body_state(&self.formula, &p));
         (
             std::array::from_fn(|k| x[k].re),
-            std::array::from_fn(|d| std::array::from_fn(|k| x[k].eps[d])),
+            std::array::from_fn(|k| x[k].eps),
         )
+    }
+
+    /// The state at (ψ₁, ψ₂) and the elimination of the Gauss–Newton step with its Jacobian
+    /// (`None`: singular), compiled with AVX2 where the CPU has it (the jet's four derivative
+    /// lanes and the rows of JᵀJ one register each): the same numbers on every path, since
+    /// both perform the same operations (no multiply-add is fused; tested).
+    #[inline]
+    pub(crate) fn state_and_system(&self, psi: &[f64; 2]) -> ([f64; DIM], Option<LeastSquares>) {
+        match self.path {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `path` is Avx2Fma only where the CPU has AVX2 and FMA (BatchPath::detect).
+            BatchPath::Avx2Fma => unsafe { self.state_and_system_avx2(psi) },
+            _ => self.state_and_system_portable(psi),
+        }
+    }
+
+    /// [`TorusTable::state_and_system`] on a given build; `None` when this CPU lacks it.
+    #[cfg(test)]
+    pub(crate) fn state_and_system_on(
+        &self,
+        path: BatchPath,
+        psi: &[f64; 2],
+    ) -> Option<([f64; DIM], Option<LeastSquares>)> {
+        path.available().then(|| {
+            Self {
+                path,
+                ..self.clone()
+            }
+            .state_and_system(psi)
+        })
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn state_and_system_avx2(&self, psi: &[f64; 2]) -> ([f64; DIM], Option<LeastSquares>) {
+        self.system(psi)
+    }
+
+    fn state_and_system_portable(&self, psi: &[f64; 2]) -> ([f64; DIM], Option<LeastSquares>) {
+        self.system(psi)
+    }
+
+    #[inline(always)]
+    fn system(&self, psi: &[f64; 2]) -> ([f64; DIM], Option<LeastSquares>) {
+        let (value, rows) = self.state_and_rows(psi);
+        (value, LeastSquares::new(&rows))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::manifold::Projector;
+    use crate::motion::{ExplicitMotion, TorusChoice};
+
+    /// The AVX2 build of the state, its Jacobian and the Gauss–Newton step gives the portable
+    /// build's numbers bit for bit, in a camera with m > 0 and one with m < 0.
+    #[test]
+    fn the_avx2_system_is_the_portable_one_bit_for_bit() {
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        let mut avx2 = true;
+        for (m, h, torus) in [(0.3, -0.375, 0), (-0.7092, 1.5643, 2)] {
+            let choice = TorusChoice {
+                torus,
+                ..TorusChoice::default()
+            };
+            let motion = ExplicitMotion::new(1.0, 0.5, m, h, choice).unwrap();
+            let projector = Projector::new(&motion).unwrap();
+            let table = projector.table().unwrap();
+            for k in 0..2000 {
+                let psi = [0.0137 * k as f64 - 3.0, 40.0 - 0.0291 * k as f64];
+                let r: [f64; DIM] = std::array::from_fn(|i| ((k * 7 + i) as f64).sin() * 1e-4);
+                let run = |path| {
+                    table
+                        .state_and_system_on(path, &psi)
+                        .map(|(value, system)| {
+                            let system = system.unwrap();
+                            let rows = system.rows().concat();
+                            (bits(&value), bits(&rows), bits(&system.step(&r)))
+                        })
+                };
+                let portable = run(BatchPath::Portable).unwrap();
+                match run(BatchPath::Avx2Fma) {
+                    Some(fast) => assert_eq!(fast, portable, "({m}, {h}) ψ = {psi:?}"),
+                    None => avx2 = false,
+                }
+            }
+        }
+        if !avx2 {
+            rsts_io::report_skip(
+                "the_avx2_system_is_the_portable_one_bit_for_bit (AVX2 + FMA build)",
+                "this CPU lacks AVX2 or FMA",
+            );
+        }
     }
 }
