@@ -2,7 +2,7 @@
 //! torus map C(ψ₁, ψ₂) and its derivatives in ψ₁, ψ₂, m and h a few times per sample, and the
 //! elliptic functions (the AGM of sn, cn, dn over dual numbers and jets) cost ~10× the rest.
 //!
-//! The state is an algebraic function (eqs. 1.3, 1.4: [`body_state`]) of the two separated
+//! The state is an algebraic function (eqs. 1.3, 1.4: [`body_state`](crate::formulas::body_state)) of the two separated
 //! points (v, F, G)ᵢ, each a function of its own angle ψᵢ alone (through sn, cn of
 //! u = ψᵢ·period/2π, [`SeparatedVariable::eval`]). So each variable's nine 2π-periodic
 //! functions of ψᵢ — v, F, G and their ∂/∂m, ∂/∂h at fixed angle — are tabulated: on N equal
@@ -21,7 +21,9 @@ use rsts_dynamics::scalar::DoubleDouble;
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::Real;
 
-use crate::formulas::{body_state, BodyState, FormulaConstants, SeparatedCoordinates};
+use crate::formulas::{
+    body_state_with, BodyState, ConstantProducts, FormulaConstants, SeparatedCoordinates,
+};
 use crate::manifold::least_squares::{columns_of, LeastSquares, Rows};
 use crate::manifold::torus_map::TorusMap;
 use crate::motion::BatchPath;
@@ -64,6 +66,9 @@ pub struct TorusTable {
     formula: FormulaConstants<Jet<f64, 4>>,
     /// Their values.
     plain: FormulaConstants<f64>,
+    /// The products of the constants each point uses ([`ConstantProducts`]), formed once.
+    formula_products: ConstantProducts<Jet<f64, 4>>,
+    plain_products: ConstantProducts<f64>,
     /// The build of [`TorusTable::state_and_system`] this CPU runs.
     path: BatchPath,
 }
@@ -291,6 +296,8 @@ impl TorusTable {
         let plain = f.map(|x| x.re);
         Some(Self {
             curves,
+            formula_products: ConstantProducts::new(&formula),
+            plain_products: ConstantProducts::new(&plain),
             formula,
             plain,
             path: BatchPath::detect(),
@@ -312,7 +319,7 @@ impl TorusTable {
     pub fn state_at(&self, psi: &[f64; 2]) -> [f64; DIM] {
         let p =
             SeparatedCoordinates::new(self.curves[0].point(psi[0]), self.curves[1].point(psi[1]));
-        phase_vector(body_state(&self.plain, &p))
+        phase_vector(body_state_with(&self.plain, &self.plain_products, &p))
     }
 
     /// The state at (ψ₁, ψ₂) and its derivatives ∂/∂ψ₁, ∂/∂ψ₂, ∂/∂m, ∂/∂h (at fixed angles).
@@ -330,7 +337,7 @@ impl TorusTable {
             self.curves[0].jet_point(0, psi[0]),
             self.curves[1].jet_point(1, psi[1]),
         );
-        let x = phase_vector(body_state(&self.formula, &p));
+        let x = phase_vector(body_state_with(&self.formula, &self.formula_products, &p));
         (
             std::array::from_fn(|k| x[k].re),
             std::array::from_fn(|k| x[k].eps),
