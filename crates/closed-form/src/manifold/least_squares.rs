@@ -1,32 +1,39 @@
 //! The Gauss–Newton step of the projector in f64, factored once per Jacobian (stop 29): the
-//! normal equations JᵀJ·δ = −Jᵀr eliminated with partial pivoting, the elimination kept so
-//! that a chord step (the same Jacobian, a new residual) costs the right-hand side alone. The
-//! arithmetic is that of the generic [`gauss_newton_step`], operation for operation, so a step
-//! is the same bit for bit (test below).
+//! normal equations JᵀJ·δ = −Jᵀr, the factorisation kept so that a chord step (the same
+//! Jacobian, a new residual) costs the right-hand side alone.
 //!
 //! The Jacobian is held by rows (stop 31): row k is (∂C_k/∂ψ₁, ∂C_k/∂ψ₂, ∂C_k/∂m, ∂C_k/∂h), the
-//! four derivative lanes of the jet the table evaluates ([`TorusTable::state_and_rows`]), one
-//! AVX2 register. JᵀJ is then the sum over k of the outer products of the rows and Jᵀr that of
-//! the rows times r_k, each entry summed in the order of the generic step's dot products (from
-//! 0, k = 0 … 8): the same numbers, four entries per vector operation.
+//! four derivative lanes of the jet the table evaluates, one AVX2 register. JᵀJ is the sum over
+//! k of the outer products of the rows and Jᵀr that of the rows times r_k (each entry summed
+//! in order of k from 0, as the generic [`gauss_newton_step`]'s dot products: the same JᵀJ).
+//!
+//! JᵀJ is symmetric positive definite: it is factored as LDLᵀ (L unit lower triangular, D
+//! diagonal; stop 31) without pivoting — backward stable for such matrices, like the partial
+//! pivoting of the generic step — with the reciprocals of D kept, so that a step costs no
+//! division. The step differs from the generic one by the rounding of two different
+//! eliminations: both are within a few ulps × cond(JᵀJ) of the exact step (test below: within
+//! 1e-12 relative on random systems). A pivot of D at or below [`SINGULAR`] times its diagonal
+//! entry of JᵀJ (the column lost all but a few bits to the others) counts as singular; on the
+//! tori of the README's default case and of camera V (2·10⁵ points each) dⱼ/(JᵀJ)ⱼⱼ ≥ 2.5e-4.
 //!
 //! [`gauss_newton_step`]: super::torus_map::gauss_newton_step
-//! [`TorusTable::state_and_rows`]: super::torus_table::TorusTable
 
 use rsts_dynamics::state::DIM;
 
 /// The Jacobian by rows: ∂C_k/∂(ψ₁, ψ₂, m, h) for each component k of the state.
 pub(crate) type Rows = [[f64; 4]; DIM];
 
-/// Four Jacobian columns (held by rows) and the elimination of their normal matrix.
+/// A pivot dⱼ ≤ SINGULAR·(JᵀJ)ⱼⱼ is singular: column j lies within 2⁻²² rad of the span of the
+/// ones before (cond(J) ≥ 4e6: the normal equations keep at most a few digits of δ).
+const SINGULAR: f64 = 1.0 / (1u64 << 44) as f64;
+
+/// Four Jacobian columns (held by rows) and the LDLᵀ factors of their normal matrix.
 #[derive(Clone, Debug)]
 pub(crate) struct LeastSquares {
     rows: Rows,
-    /// The upper triangle after elimination.
-    upper: [[f64; 4]; 4],
-    /// The row swapped into place at each column, and the multipliers of each row.
-    pivots: [usize; 4],
-    factors: [[f64; 4]; 4],
+    /// L below the diagonal (lower[i][j], i > j), and 1/D.
+    lower: [[f64; 4]; 4],
+    inv_d: [f64; 4],
 }
 
 /// The rows of the Jacobian with columns `columns`.
@@ -40,12 +47,11 @@ pub(crate) fn columns_of(rows: &Rows) -> [[f64; DIM]; 4] {
 }
 
 impl LeastSquares {
-    /// The elimination for the Jacobian `rows`, or `None` when JᵀJ is singular.
-    #[allow(clippy::needless_range_loop)] // the index ranges are the elimination's
+    /// The factors for the Jacobian `rows`, or `None` when JᵀJ is singular.
+    #[allow(clippy::needless_range_loop)] // the index ranges are the factorisation's
     #[inline(always)]
     pub(crate) fn new(rows: &Rows) -> Option<Self> {
-        // (JᵀJ)ᵢⱼ = Σₖ Jₖᵢ·Jₖⱼ in order of k, from 0 (uₖvₖ = vₖuₖ in floating point: the
-        // matrix is symmetric bit for bit).
+        // (JᵀJ)ᵢⱼ = Σₖ Jₖᵢ·Jₖⱼ in order of k, from 0.
         let mut a = [[0.0; 4]; 4];
         for row in rows {
             for i in 0..4 {
@@ -54,39 +60,40 @@ impl LeastSquares {
                 }
             }
         }
-        let mut pivots = [0; 4];
-        let mut factors = [[0.0; 4]; 4];
-        for col in 0..4 {
-            // The first row of largest |a[·][col]| at or below col (as max_by keeps the last of
-            // equal maxima: the generic step's choice).
-            let mut pivot = col;
-            for row in col + 1..4 {
-                if a[row][col].abs() >= a[pivot][col].abs() {
-                    pivot = row;
-                }
+        let mut lower = [[0.0; 4]; 4];
+        let mut d = [0.0; 4];
+        let mut inv_d = [0.0; 4];
+        for j in 0..4 {
+            // (L·D)ⱼₖ for k < j.
+            let ld: [f64; 4] =
+                std::array::from_fn(|k| if k < j { lower[j][k] * d[k] } else { 0.0 });
+            let mut dj = a[j][j];
+            for k in 0..j {
+                dj -= lower[j][k] * ld[k];
             }
-            if a[pivot][col].abs().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            // Also singular: a NaN.
+            if dj.partial_cmp(&(SINGULAR * a[j][j])) != Some(std::cmp::Ordering::Greater) {
                 return None;
             }
-            a.swap(col, pivot);
-            pivots[col] = pivot;
-            for row in col + 1..4 {
-                let f = a[row][col] / a[col][col];
-                factors[col][row] = f;
-                for k in col..4 {
-                    a[row][k] -= f * a[col][k];
+            d[j] = dj;
+            inv_d[j] = 1.0 / dj;
+            for i in j + 1..4 {
+                let mut v = a[i][j];
+                for k in 0..j {
+                    v -= lower[i][k] * ld[k];
                 }
+                lower[i][j] = v * inv_d[j];
             }
         }
         Some(Self {
             rows: *rows,
-            upper: a,
-            pivots,
-            factors,
+            lower,
+            inv_d,
         })
     }
 
     /// The step δ for the residual r.
+    #[allow(clippy::needless_range_loop)] // the index ranges are the substitutions'
     #[inline(always)]
     pub(crate) fn step(&self, r: &[f64; DIM]) -> [f64; 4] {
         // −(Jᵀr)ᵢ = −Σₖ Jₖᵢ·rₖ in order of k, from 0.
@@ -96,26 +103,24 @@ impl LeastSquares {
                 *y += j * rk;
             }
         }
+        let l = &self.lower;
+        // L·y = −Jᵀr, then Lᵀ·x = D⁻¹·y.
         let mut y = jtr.map(|v| -v);
-        for col in 0..4 {
-            y.swap(col, self.pivots[col]);
-            for row in col + 1..4 {
-                y[row] -= self.factors[col][row] * y[col];
+        for i in 1..4 {
+            for k in 0..i {
+                y[i] -= l[i][k] * y[k];
             }
         }
-        let a = &self.upper;
-        let mut x = y;
-        for row in (0..4).rev() {
-            let mut v = y[row];
-            for k in row + 1..4 {
-                v -= a[row][k] * x[k];
+        let mut x: [f64; 4] = std::array::from_fn(|i| y[i] * self.inv_d[i]);
+        for i in (0..3).rev() {
+            for k in i + 1..4 {
+                x[i] -= l[k][i] * x[k];
             }
-            x[row] = v / a[row][row];
         }
         x
     }
 
-    /// The Jacobian the elimination is of, by rows.
+    /// The Jacobian the factors are of, by rows.
     #[inline(always)]
     pub(crate) fn rows(&self) -> &Rows {
         &self.rows
@@ -127,9 +132,16 @@ mod tests {
     use super::*;
     use crate::manifold::torus_map::gauss_newton_step;
 
-    /// The same step as the generic one, bit for bit, on random and on rank-deficient systems.
+    /// max |u − v| / max |v|.
+    fn relative(u: &[f64; 4], v: &[f64; 4]) -> f64 {
+        let gap = (0..4).map(|i| (u[i] - v[i]).abs()).fold(0.0, f64::max);
+        gap / v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+    }
+
+    /// The step is the generic step to the rounding of the eliminations on random systems, and
+    /// both find the rank-deficient ones singular.
     #[test]
-    fn the_step_is_the_generic_step_bit_for_bit() {
+    fn the_step_is_the_generic_step_to_the_rounding() {
         let mut seed = 29u64;
         let mut next = || {
             seed = seed
@@ -137,6 +149,7 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
         };
+        let mut worst = 0.0f64;
         for case in 0..2000 {
             let mut columns: [[f64; DIM]; 4] =
                 std::array::from_fn(|_| std::array::from_fn(|_| next()));
@@ -147,10 +160,11 @@ mod tests {
             let generic = gauss_newton_step(columns.each_ref(), &r);
             let own = LeastSquares::new(&rows_of(&columns)).map(|l| l.step(&r));
             match (generic, own) {
-                (Some(g), Some(o)) => assert_eq!(g.map(f64::to_bits), o.map(f64::to_bits)),
+                (Some(g), Some(o)) => worst = worst.max(relative(&o, &g)),
                 (None, None) => {}
                 (g, o) => panic!("case {case}: generic {g:?}, own {o:?}"),
             }
         }
+        assert!(worst < 1e-12, "{worst:e}");
     }
 }
