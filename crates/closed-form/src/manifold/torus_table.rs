@@ -397,6 +397,27 @@ mod tests {
     use crate::manifold::Projector;
     use crate::motion::{ExplicitMotion, TorusChoice};
 
+    /// An angle a few turns below 0 or above 2π falls in its cell: the point of the AGM path.
+    #[test]
+    fn the_cells_repeat_every_turn() {
+        let motion = ExplicitMotion::new(1.0, 0.5, -0.7092, 1.5643, TorusChoice::default());
+        let motion = motion.unwrap();
+        let table = Projector::new(&motion).unwrap().table().unwrap().clone();
+        let agm = TorusMap::of_motion(&motion);
+        let tau = std::f64::consts::TAU;
+        for k in 0..500 {
+            let psi = 0.0123 * k as f64;
+            for turns in [-3.0, -1.0, 1.0, 5.0] {
+                for i in 0..2 {
+                    let (p, q) = (agm.point(i, &psi), table.point(i, psi + turns * tau));
+                    for (u, v) in [(p.v, q.v), (p.f, q.f), (p.g, q.g)] {
+                        assert!((u - v).abs() < 1e-12, "ψ = {psi}, {turns} turns: {u} {v}");
+                    }
+                }
+            }
+        }
+    }
+
     /// The AVX2 build of the state, its Jacobian and the Gauss–Newton step gives the portable
     /// build's numbers bit for bit, in a camera with m > 0 and one with m < 0.
     #[test]
