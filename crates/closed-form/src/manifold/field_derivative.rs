@@ -279,6 +279,7 @@ impl PhiFieldDerivative {
 
     /// [`PhiFieldDerivative::hessian_phi`] lane by lane.
     #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // k indexes ∇L and δ alike
     fn hessian_phi_six(&self, delta: &[Lanes; DIM]) -> [Lanes; DIM] {
         let [a, b] = self.fields;
         let [w1, w2, _] = self.state.omega;
@@ -286,8 +287,8 @@ impl PhiFieldDerivative {
         let dx = 2.0 * (w1 * d0 - w2 * d1) + a * delta[3] - b * delta[7];
         let dy = 2.0 * (w2 * d0 + w1 * d1) + a * delta[4] + b * delta[6];
         let mut dl = self.grad_l[0] * delta[0];
-        for (g, d) in self.grad_l.iter().zip(delta).skip(1) {
-            dl = dl + *g * *d;
+        for k in 1..DIM {
+            dl = dl + self.grad_l[k] * delta[k];
         }
         let hg = self.hessian_g_six(delta);
         let zero = Lanes::splat(0.0);
