@@ -23,6 +23,8 @@
 //! [`phi_field`]: super::phi_field::phi_field
 //! [`phi_field_derivative_jet`]: super::phi_field::phi_field_derivative_jet
 
+use std::ops::{Add, Mul};
+
 use rsts_dynamics::integrals::{energy, third};
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::vec3::{cross, dot};
@@ -65,6 +67,32 @@ fn add3(u: &[f64; 3], v: &[f64; 3]) -> [f64; 3] {
 
 fn dot9(u: &[f64; DIM], v: &[f64; DIM]) -> f64 {
     (0..DIM).map(|k| u[k] * v[k]).sum()
+}
+
+/// ∇²G·δ from (δ∂G/∂M, δ∂G/∂A, δ∂G/∂B, δR) of the module doc and (a/2, b/2), for one
+/// direction or six lanes.
+#[inline(always)]
+fn hessian_g_of<T: Copy + Add<Output = T>>(
+    [half_a, half_b]: [f64; 2],
+    g_m: [T; 3],
+    g_a: [T; 3],
+    g_b: [T; 3],
+    dr: T,
+) -> [T; DIM]
+where
+    f64: Mul<T, Output = T>,
+{
+    [
+        g_m[0],
+        g_m[1],
+        0.5 * (g_m[2] + dr),
+        half_a * g_a[0],
+        half_a * g_a[1],
+        half_a * g_a[2],
+        half_b * g_b[0],
+        half_b * g_b[1],
+        half_b * g_b[2],
+    ]
 }
 
 impl PhiFieldDerivative {
@@ -142,17 +170,7 @@ impl PhiFieldDerivative {
                 g_b[i] += dq * m[i] + w3 * mxda[i];
             }
         }
-        [
-            g_m[0],
-            g_m[1],
-            0.5 * (g_m[2] + dr),
-            0.5 * a * g_a[0],
-            0.5 * a * g_a[1],
-            0.5 * a * g_a[2],
-            0.5 * b * g_b[0],
-            0.5 * b * g_b[1],
-            0.5 * b * g_b[2],
-        ]
+        hessian_g_of([0.5 * a, 0.5 * b], g_m, g_a, g_b, dr)
     }
 
     /// ∇²Φ·δ.
@@ -264,17 +282,7 @@ impl PhiFieldDerivative {
             g_a[i] = g_a[i] + (dp * m[i] + w3 * dbxm[i]);
             g_b[i] = g_b[i] + (dq * m[i] + w3 * mxda[i]);
         }
-        [
-            g_m[0],
-            g_m[1],
-            0.5 * (g_m[2] + dr),
-            0.5 * a * g_a[0],
-            0.5 * a * g_a[1],
-            0.5 * a * g_a[2],
-            0.5 * b * g_b[0],
-            0.5 * b * g_b[1],
-            0.5 * b * g_b[2],
-        ]
+        hessian_g_of([0.5 * a, 0.5 * b], g_m, g_a, g_b, dr)
     }
 
     /// [`PhiFieldDerivative::hessian_phi`] lane by lane.
