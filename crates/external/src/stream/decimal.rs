@@ -218,7 +218,7 @@ const POW5: [(u64, u64); 129] = [
 ];
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use rug::ops::Pow;
     use rug::Float;
@@ -256,6 +256,16 @@ mod tests {
         }
     }
 
+    /// Marsaglia's xorshift from `seed`: the random numbers of the reading's tests.
+    pub(in crate::stream) fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        }
+    }
+
     fn std(w: u64, q: i64) -> f64 {
         format!("{w}e{q}").parse().unwrap()
     }
@@ -264,13 +274,7 @@ mod tests {
     /// an answer is given, and an answer for nearly all (only subnormals are left).
     #[test]
     fn random_decimals_are_std_bit_for_bit() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x2545_f491_4f6c_dd1d);
         let mut answered = 0;
         for _ in 0..1_000_000 {
             let digits = 1 + next() % 19;
@@ -288,13 +292,7 @@ mod tests {
     /// digit either side, of up to 19 digits; the largest w; edges of the table.
     #[test]
     fn halfway_and_edge_cases_are_std_bit_for_bit() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
         let mut ties = 0;
         for _ in 0..200_000 {
             // x = M·2^E with 53 bits of M, x between 2^48 and 2^64: the midpoint (2M+1)·2^(E-1).

@@ -253,13 +253,7 @@ mod tests {
     /// reads them, with their digits.
     #[test]
     fn plain_values_are_std_bit_for_bit() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = super::super::decimal::tests::xorshift(0x9e37_79b9_7f4a_7c15);
         let mut fast = 0;
         for k in 0..1_000_000 {
             let bits = next();
