@@ -17,6 +17,7 @@ use crate::files::{
 use crate::samples::{comes_after, not_after, Number, RawTrajectory, F64_TEXT_DIGITS};
 
 mod csv_count;
+mod decimal;
 mod f64_rows;
 mod plain_csv;
 pub use f64_rows::{check_rest_f64, F64Chunk, RestF64};

@@ -103,6 +103,10 @@ pub struct LogSpacedEnvelope<const N: usize> {
     envelope: [f64; N],
     /// (bucket, time, envelope) of the points kept.
     points: Vec<(i64, f64, [f64; N])>,
+    /// Times below this fall in the last point's bucket or before: a bound a little below
+    /// that bucket's end (by 1e-9 relative, far beyond the logarithm's rounding), so most
+    /// samples need no logarithm. −∞ while no point is kept.
+    within: f64,
 }
 
 impl<const N: usize> Default for LogSpacedEnvelope<N> {
@@ -118,6 +122,7 @@ impl<const N: usize> LogSpacedEnvelope<N> {
             seen: 0,
             envelope: [0.0; N],
             points: Vec::new(),
+            within: f64::NEG_INFINITY,
         }
     }
 
@@ -132,11 +137,21 @@ impl<const N: usize> LogSpacedEnvelope<N> {
         if index < FIRST_SAMPLES || !(t > 0.0 && t.is_finite()) {
             return;
         }
+        if t < self.within {
+            if let Some(last) = self.points.last_mut() {
+                *last = (last.0, t, self.envelope);
+                return;
+            }
+        }
         let t1 = *self.t1.get_or_insert(t);
         let bucket = (PER_OCTAVE * (t / t1).log2()).floor() as i64;
         match self.points.last_mut() {
             Some(last) if last.0 >= bucket => *last = (last.0, t, self.envelope),
             _ => self.points.push((bucket, t, self.envelope)),
+        }
+        if let Some(last) = self.points.last() {
+            let end = t1 * ((last.0 + 1) as f64 / PER_OCTAVE).exp2();
+            self.within = end * (1.0 - 1e-9);
         }
     }
 
@@ -201,6 +216,36 @@ mod tests {
             s.push(t, [f(t)]);
         }
         s
+    }
+
+    /// The points kept are those of the definition (a logarithm per sample): on times at the
+    /// buckets' ends, one ulp either side, and in between, from several first times.
+    #[test]
+    fn the_points_are_those_of_a_logarithm_per_sample() {
+        for t1 in [1e-3, 0.37, 1.0, 3.0, 1e5] {
+            let mut times = vec![0.0, 0.0, 0.0, 0.0];
+            for k in 0..400 {
+                let end = t1 * (k as f64 / PER_OCTAVE).exp2();
+                let (below, above) = (f64::from_bits(end.to_bits() - 1), end.next_up());
+                times.extend([below, end, above, end * (1.0 + 1e-10), end * 1.03]);
+            }
+            let mut s = LogSpacedEnvelope::<1>::new();
+            let mut points: Vec<(i64, f64, [f64; 1])> = Vec::new();
+            for (k, &t) in times.iter().enumerate() {
+                let v = [k as f64];
+                s.push(t, v);
+                if k < FIRST_SAMPLES || t <= 0.0 {
+                    continue;
+                }
+                let bucket = (PER_OCTAVE * (t / times[FIRST_SAMPLES]).log2()).floor() as i64;
+                match points.last_mut() {
+                    Some(last) if last.0 >= bucket => *last = (last.0, t, v),
+                    _ => points.push((bucket, t, v)),
+                }
+            }
+            assert_eq!(s.points, points, "t1 = {t1}");
+            assert!(points.len() > 390, "{}", points.len());
+        }
     }
 
     #[test]

@@ -42,25 +42,29 @@ impl TrajectoryReader {
 /// row's time; `None` for any other file.
 fn count_csv(path: &Path) -> Option<Survey> {
     let mut file = std::fs::File::open(path).ok()?;
-    let mut data: Vec<u8> = Vec::with_capacity(2 * BLOCK);
+    // The bytes read and not yet looked at are data[..len]; the buffer is zeroed only where
+    // it grows (not for every block read).
+    let mut data: Vec<u8> = Vec::new();
+    let mut len = 0;
     let mut header: Option<CsvHeader> = None;
     let (mut line, mut rows) = (0, 0);
     let mut last_row = Vec::new();
     loop {
-        let old = data.len();
-        data.resize(old + BLOCK, 0);
+        if data.len() < len + BLOCK {
+            data.resize(len + BLOCK, 0);
+        }
         let n = loop {
-            match file.read(&mut data[old..]) {
+            match file.read(&mut data[len..len + BLOCK]) {
                 Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
                 read => break read.ok()?,
             }
         };
-        data.truncate(old + n);
+        len += n;
         let end = match n {
-            0 => data.len(),
-            _ => match memchr::memrchr(b'\n', &data) {
+            0 => len,
+            _ => match memchr::memrchr(b'\n', &data[..len]) {
                 Some(i) => i + 1,
-                None if data.len() as u64 > MAX_LINE_BYTES => return None,
+                None if len as u64 > MAX_LINE_BYTES => return None,
                 None => continue,
             },
         };
@@ -96,7 +100,8 @@ fn count_csv(path: &Path) -> Option<Survey> {
             last_row.clear();
             last_row.extend_from_slice(&data[from..to]);
         }
-        data.drain(..end);
+        data.copy_within(end..len, 0);
+        len -= end;
         if n == 0 {
             break;
         }

@@ -106,7 +106,8 @@ fn eight_digits(s: &[u8], i: usize) -> Option<u64> {
 /// that is a finite f64: the value, its significant digits (those of
 /// [`crate::samples::significant_digits`], the value of [`crate::samples::text_f64`]) and its
 /// length. A mantissa of at most 2⁵³ times a power of ten up to 10²² is exact in f64 and is
-/// read with one rounding (Clinger's fast path); other values by `f64::from_str`.
+/// read with one rounding (Clinger's fast path); other mantissas of at most 19 digits by the
+/// Eisel–Lemire algorithm ([`super::decimal`]); the rest by `f64::from_str`.
 fn plain_value(s: &[u8]) -> Option<(f64, usize, usize)> {
     let negative = s.first() == Some(&b'-');
     let mut i = usize::from(negative || s.first() == Some(&b'+'));
@@ -176,8 +177,13 @@ fn plain_value(s: &[u8]) -> Option<(f64, usize, usize)> {
             x
         }
     } else {
-        // SAFETY: the bytes read above.
-        unsafe { ascii(&s[..i]) }.parse().ok()?
+        let fast = (significant <= 19).then(|| super::decimal::decimal_f64(w, e10));
+        match fast.flatten() {
+            Some(x) if negative => -x,
+            Some(x) => x,
+            // SAFETY: the bytes read above.
+            None => unsafe { ascii(&s[..i]) }.parse().ok()?,
+        }
     };
     x.is_finite().then_some((x, significant, i))
 }
@@ -247,13 +253,7 @@ mod tests {
     /// reads them, with their digits.
     #[test]
     fn plain_values_are_std_bit_for_bit() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = super::super::decimal::tests::xorshift(0x9e37_79b9_7f4a_7c15);
         let mut fast = 0;
         for k in 0..1_000_000 {
             let bits = next();

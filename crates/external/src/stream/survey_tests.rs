@@ -106,3 +106,22 @@ fn a_csv_opened_in_one_pass_counts_its_rows_and_reads_its_last_time() {
         (Some(3), 18, 7.25)
     );
 }
+
+/// A CSV of more than one block read (1 MiB; lines across the blocks' ends) opened in one
+/// pass: every row counted and the last row's time read.
+#[test]
+fn a_csv_of_many_blocks_counts_every_row() {
+    let mut text = String::from("t,omega1,omega2,omega3,alpha1,alpha2,alpha3,beta1,beta2,beta3\n");
+    let rows = 50_000;
+    for k in 0..rows {
+        let t = 0.125 * k as f64;
+        text.push_str(&format!("{t},0.1,0.2,0.3,1,0,0,0,1,-0.{k:0>17}\n"));
+    }
+    assert!(text.len() > 2 << 20);
+    let path = file("blocks.csv", text.as_bytes());
+    let (_, survey) = TrajectoryReader::open_f64(&path).unwrap();
+    assert_eq!(
+        (survey.rows, survey.extent),
+        (Some(rows), 0.125 * (rows - 1) as f64)
+    );
+}
