@@ -14,12 +14,12 @@ use rsts_dynamics::vec3::{mul_bt, rotation_angle};
 const MP: u32 = 300;
 
 /// A double-double with a random low part (a value not on the f64 grid).
-fn dd(rng: &mut ChaCha8Rng, x: f64) -> Dd {
+pub(super) fn dd(rng: &mut ChaCha8Rng, x: f64) -> Dd {
     Dd::from_f64_exact(x).add_f64(x * 1e-17 * rng.gen_range(-0.5..0.5))
 }
 
 /// Fields a > b with low parts (a decimal like 1.1 is not an f64).
-fn fields(rng: &mut ChaCha8Rng) -> Fields<Dd> {
+pub(super) fn fields(rng: &mut ChaCha8Rng) -> Fields<Dd> {
     let a = rng.gen_range(0.5..3.0);
     let b = a * rng.gen_range(0.0..1.0);
     Fields {
@@ -30,7 +30,7 @@ fn fields(rng: &mut ChaCha8Rng) -> Fields<Dd> {
 
 /// A random state (ω of size up to `w`, α, β orthonormal to f64 rounding) and an exact state
 /// near it: each component moved by up to 10^`e` (e from −18 to −2), with a low part.
-fn sample(rng: &mut ChaCha8Rng, w: f64) -> ([f64; 9], State<Dd>) {
+pub(super) fn sample(rng: &mut ChaCha8Rng, w: f64) -> ([f64; 9], State<Dd>) {
     let unit = |v: [f64; 3]| {
         let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         v.map(|c| c / n)
@@ -196,7 +196,7 @@ fn fma_and_portable_builds_of_the_errors_give_the_same_bits() {
 
 /// An exact state in double-double on the constraints (α̃, β̃ orthonormal within 2⁻¹⁰⁶: made
 /// in MPFR) and f64 data near it, each component moved by up to 10^`e`, e from −18 to 0.
-fn on_constraints(rng: &mut ChaCha8Rng) -> ([f64; 9], State<Dd>) {
+pub(super) fn on_constraints(rng: &mut ChaCha8Rng) -> ([f64; 9], State<Dd>) {
     let mp = |v: [f64; 3]| v.map(|c| Float::with_val(MP, c));
     let dot = |u: &[Float; 3], v: &[Float; 3]| {
         Float::with_val(MP, &u[0] * &v[0])
