@@ -205,7 +205,7 @@ unsafe fn measure_all_avx2(
     measure_all_portable(m, exact, xs, ratio, snapshots, out)
 }
 
-/// [`f64_sample_errors4`] of each group of four samples and the digits of each, the rest (and
+/// [`f64_sample_errors4`] of each group of four samples (errors and digits), the rest (and
 /// every sample when the snapshots are asked) by [`measure_portable`]. Plain loops, no
 /// closure: compiled with the caller's features.
 #[inline(always)]
@@ -226,15 +226,8 @@ fn measure_all_portable(
         .chunks_exact(LANES)
         .zip(xs[..grouped].chunks_exact(LANES))
     {
-        let four = f64_sample_errors4(
-            &m.fields,
-            &m.n,
-            &m.initial_integrals,
-            [&e[0], &e[1], &e[2], &e[3]],
-            [&x[0], &x[1], &x[2], &x[3]],
-        );
-        for (e, (errors, d)) in e.iter().zip(four) {
-            let digits = crate::digits::of_differences(&d, &e.to_array(), ratio);
+        let four = f64_sample_errors4(&m.fields, &m.n, &m.initial_integrals, e, x, ratio);
+        for (errors, digits) in four {
             out.push(evaluated((errors, None, digits)));
         }
     }

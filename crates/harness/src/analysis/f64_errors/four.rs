@@ -27,64 +27,126 @@ macro_rules! lanes {
     }};
 }
 
-/// [`f64_sample_errors`] of the four samples `x[i]` against `exact[i]`: the same numbers, bit
-/// for bit.
+/// [`f64_sample_errors`] of the four samples `x[i]` against `exact[i]` (slices of [`LANES`])
+/// and the relative and mixed errors of their digits ([`crate::digits::of_differences`],
+/// atol/rtol = `ratio`): the same numbers, bit for bit. Plain loops and branch-free lanes
+/// (no closure handed to a library function: compiled with the caller's AVX2 and FMA).
 #[inline(always)]
 pub(crate) fn f64_sample_errors4(
     fields: &Fields<Dd>,
     n: &ManifoldN<Dd>,
     initial_integrals: &[Dd; 3],
-    exact: [&State<Dd>; LANES],
-    x: [&[f64; 9]; LANES],
-) -> [(SampleErrors, [Dd; 9]); LANES] {
-    let finite = x.iter().all(|x| x.iter().all(|v| v.is_finite()))
-        && exact.iter().all(|e| {
-            e.to_array()
-                .iter()
-                .all(|v| v.hi.is_finite() && v.lo.is_finite())
-        });
-    if !finite {
-        return std::array::from_fn(|i| {
-            f64_sample_errors(fields, n, initial_integrals, exact[i], x[i])
-        });
+    exact: &[State<Dd>],
+    x: &[[f64; 9]],
+    ratio: f64,
+) -> [(SampleErrors, (f64, f64)); LANES] {
+    let mut out = [(SampleErrors::default(), (0.0, 0.0)); LANES];
+    let mut xs = [[0.0; LANES]; 9];
+    let mut y = [D4::default(); 9];
+    let mut finite = true;
+    for i in 0..LANES {
+        let yi = exact[i].to_array();
+        for k in 0..9 {
+            xs[k][i] = x[i][k];
+            y[k].hi[i] = yi[k].hi;
+            y[k].lo[i] = yi[k].lo;
+            finite &= x[i][k].is_finite() & yi[k].hi.is_finite() & yi[k].lo.is_finite();
+        }
     }
-    let ys = exact.map(State::to_array);
-    let xs: [F4; 9] = std::array::from_fn(|k| std::array::from_fn(|i| x[i][k]));
-    let y: [D4; 9] = std::array::from_fn(|k| D4::from_lanes(std::array::from_fn(|i| ys[i][k])));
+    if !finite {
+        for (i, out) in out.iter_mut().enumerate() {
+            let (errors, d) = f64_sample_errors(fields, n, initial_integrals, &exact[i], &x[i]);
+            let digits = crate::digits::of_differences(&d, &exact[i].to_array(), ratio);
+            *out = (errors, digits);
+        }
+        return out;
+    }
     let mut delta = [D4::default(); 9];
     let mut d = [D4::default(); 9];
     let mut state_error = D4::splat(Dd::ZERO);
     for k in 0..9 {
         delta[k] = exact4(xs[k]) - y[k];
-        d[k] = delta[k].abs();
-        state_error = state_error.max_of(d[k]);
+        d[k] = abs4(delta[k]);
+        state_error = max4(state_error, d[k]);
     }
     let [h, k, g] = integrals4(fields, &xs);
     let two = D4::splat(Dd::from_f64_exact(2.0));
-    let off_k = (k - D4::splat(n.k)).abs();
-    let off_g = (two * g - D4::splat(n.p2) * h - D4::splat(n.r4m)).abs();
+    let off_k = abs4(k - D4::splat(n.k));
+    let off_g = abs4(two * g - D4::splat(n.p2) * h - D4::splat(n.r4m));
     let theta = orientation_error4(&xs, &y, &delta);
-    let drift = |v: D4, i: usize| (v - D4::splat(initial_integrals[i])).abs();
-    let (drift_h, drift_k, drift_g) = (drift(h, 0), drift(k, 1), drift(g, 2));
+    let i0 = initial_integrals;
+    let drift_h = abs4(h - D4::splat(i0[0]));
+    let drift_k = abs4(k - D4::splat(i0[1]));
+    let drift_g = abs4(g - D4::splat(i0[2]));
     let constraint = constraint_error4(&xs);
-    let off_n = off_k.max_of(off_g);
-    std::array::from_fn(|i| {
-        let f = |v: &D4| v.lane(i).to_f64();
-        let errors = SampleErrors {
-            state_error: f(&state_error),
-            orientation_error: f(&theta),
-            drift_h: f(&drift_h),
-            drift_k: f(&drift_k),
-            drift_g: f(&drift_g),
-            constraint_drift: f(&constraint),
-            off_n: f(&off_n),
+    let off_n = max4(off_k, off_g);
+    let digits = digits4(&d, &y, ratio);
+    for (i, out) in out.iter_mut().enumerate() {
+        out.0 = SampleErrors {
+            state_error: state_error.lane(i).to_f64(),
+            orientation_error: theta.lane(i).to_f64(),
+            drift_h: drift_h.lane(i).to_f64(),
+            drift_k: drift_k.lane(i).to_f64(),
+            drift_g: drift_g.lane(i).to_f64(),
+            constraint_drift: constraint.lane(i).to_f64(),
+            off_n: off_n.lane(i).to_f64(),
             distance_from_n: f64::NAN,
             x_phi: f64::NAN,
             along_n: f64::NAN,
             phase_error: [f64::NAN; 2],
         };
-        (errors, d.map(|d| d.lane(i)))
-    })
+        out.1 = digits[i];
+    }
+    out
+}
+
+/// |v| lane by lane, branch-free: the scalar [`Real::abs`] (negated where the sign of the
+/// high part is set and it is no NaN: a sign flip of both parts).
+#[inline(always)]
+fn abs4(v: D4) -> D4 {
+    let mut out = v;
+    for i in 0..LANES {
+        let h = v.hi[i];
+        let flip = u64::from(h.is_sign_negative() & !h.is_nan()) << 63;
+        out.hi[i] = f64::from_bits(h.to_bits() ^ flip);
+        out.lo[i] = f64::from_bits(v.lo[i].to_bits() ^ flip);
+    }
+    out
+}
+
+/// The larger of u and v lane by lane, branch-free: the scalar [`Real::max_of`] (v where
+/// v > u in the order of (hi, lo), else u).
+#[inline(always)]
+fn max4(u: D4, v: D4) -> D4 {
+    let mut out = u;
+    for i in 0..LANES {
+        let greater = (v.hi[i] > u.hi[i]) | ((v.hi[i] == u.hi[i]) & (v.lo[i] > u.lo[i]));
+        let mask = 0u64.wrapping_sub(u64::from(greater));
+        out.hi[i] = f64::from_bits((v.hi[i].to_bits() & mask) | (u.hi[i].to_bits() & !mask));
+        out.lo[i] = f64::from_bits((v.lo[i].to_bits() & mask) | (u.lo[i].to_bits() & !mask));
+    }
+    out
+}
+
+/// [`crate::digits::of_differences`] of four samples (d = |x − y|, y the exact states): the
+/// sizes and scales in the lanes, the largest quotients lane by lane.
+#[inline(always)]
+fn digits4(d: &[D4; 9], y: &[D4; 9], ratio: f64) -> [(f64, f64); LANES] {
+    let mut size = [D4::default(); 9];
+    let mut scale = [D4::default(); 9];
+    for k in 0..9 {
+        size[k] = abs4(y[k]);
+        scale[k] = lanes!(|i| size[k].lane(i).add_f64(ratio));
+    }
+    let mut out = [(0.0, 0.0); LANES];
+    for (i, out) in out.iter_mut().enumerate() {
+        let (mut di, mut si, mut ci) = ([Dd::ZERO; 9], [Dd::ZERO; 9], [Dd::ZERO; 9]);
+        for k in 0..9 {
+            (di[k], si[k], ci[k]) = (d[k].lane(i), size[k].lane(i), scale[k].lane(i));
+        }
+        *out = crate::digits::of_sizes(&di, &si, &ci);
+    }
+    out
 }
 
 /// Four f64, exactly.
@@ -168,7 +230,7 @@ fn constraint_error4(x: &[F4; 9]) -> D4 {
         dot4_f64(beta, beta) - one,
         dot4_f64(alpha, beta),
     ];
-    r[0].abs().max_of(r[1].abs()).max_of(r[2].abs())
+    max4(max4(abs4(r[0]), abs4(r[1])), abs4(r[2]))
 }
 
 /// [`ProductSum`] in four lanes.

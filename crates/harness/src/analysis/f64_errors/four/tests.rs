@@ -134,9 +134,9 @@ fn four_samples_at_once_give_the_scalar_kernels_bits_on_the_avx2_build() {
     }
 }
 
-/// Every lane of a group is its own sample: a group whose lanes are four different samples
-/// and the same samples placed at other lanes (rotated) give each sample the same numbers,
-/// and the four lanes differ (a kernel that copied one lane into the others fails).
+/// Every lane of a group is its own sample: a group of four different samples and the same
+/// samples placed at other lanes (rotated) give each sample the scalar kernel's numbers, and
+/// the four lanes differ (a kernel that copied one lane into the others fails).
 #[test]
 fn each_lane_of_a_group_is_its_own_sample() {
     let mut rng = ChaCha8Rng::seed_from_u64(4);
@@ -148,34 +148,17 @@ fn each_lane_of_a_group_is_its_own_sample() {
     };
     let i0 = [dd(&mut rng, 0.5), dd(&mut rng, 0.7), dd(&mut rng, 0.9)];
     for _ in 0..1_000 {
-        let four: [([f64; 9], State<Dd>); 4] = std::array::from_fn(|_| sample(&mut rng, 1.0));
-        let got = f64_sample_errors4(
-            &f,
-            &n,
-            &i0,
-            std::array::from_fn(|i| &four[i].1),
-            std::array::from_fn(|i| &four[i].0),
-        );
-        let rotated = f64_sample_errors4(
-            &f,
-            &n,
-            &i0,
-            std::array::from_fn(|i| &four[(i + 1) % 4].1),
-            std::array::from_fn(|i| &four[(i + 1) % 4].0),
-        );
+        let (x, e): (Vec<[f64; 9]>, Vec<State<Dd>>) = (0..5).map(|_| sample(&mut rng, 1.0)).unzip();
+        let got = f64_sample_errors4(&f, &n, &i0, &e[..4], &x[..4], 1.0);
+        let rotated = f64_sample_errors4(&f, &n, &i0, &e[1..], &x[1..], 1.0);
         for i in 0..4 {
-            let alone = f64_sample_errors(&f, &n, &i0, &four[i].1, &four[i].0);
-            let state_error = |e: &SampleErrors| e.state_error.to_bits();
-            assert_eq!(state_error(&got[i].0), state_error(&alone.0), "lane {i}");
-            assert_eq!(
-                format!("{:?}", got[i]),
-                format!("{:?}", rotated[(i + 3) % 4]),
-                "lane {i}"
-            );
-            assert_ne!(
-                got[i].0.drift_h.to_bits(),
-                got[(i + 1) % 4].0.drift_h.to_bits()
-            );
+            let (alone, d) = f64_sample_errors(&f, &n, &i0, &e[i], &x[i]);
+            let digits = crate::digits::of_differences(&d, &e[i].to_array(), 1.0);
+            assert_eq!(format!("{:?}", got[i]), format!("{:?}", (alone, digits)));
+            if i > 0 {
+                assert_eq!(format!("{:?}", got[i]), format!("{:?}", rotated[i - 1]));
+            }
+            assert_ne!(got[i].0.drift_h, got[(i + 1) % 4].0.drift_h, "lane {i}");
         }
     }
 }
