@@ -42,6 +42,9 @@ fi
 work="$(mktemp -d "${TMPDIR:-/tmp}/rsts-test.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
 export RSTS_SKIP_LOG="$work/skipped"
+# The tests' scratch files (each test process's rsts-*-tests-PID directory, pytest's tmp_path)
+# go under $work and leave with it: a run leaves nothing in the system's temporary directory.
+mkdir "$work/tmp" && export TMPDIR="$work/tmp"
 : >"$RSTS_SKIP_LOG"
 
 start=$SECONDS
