@@ -141,7 +141,7 @@ pub(super) fn measure_portable(
 
 /// A sample's measures as evaluated (its geometry to come).
 #[inline(always)]
-fn evaluated((errors, snapshots, digits): Measured) -> Evaluated {
+pub(super) fn evaluated((errors, snapshots, digits): Measured) -> Evaluated {
     Evaluated {
         exact: None,
         errors,

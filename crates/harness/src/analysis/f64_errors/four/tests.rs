@@ -4,11 +4,10 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rsts_closed_form::BatchPath;
 
-use super::super::tests::{dd, fields, on_constraints, sample};
+use super::super::tests::{dd, dd_measure, fields, on_constraints, sample};
 use super::*;
-use crate::analysis::f64_samples::{measure_all_on, measure_portable};
-use crate::analysis::{DdMeasure, Evaluated};
-use rsts_dynamics::integrals::integrals;
+use crate::analysis::f64_samples::{evaluated, measure_all_on, measure_portable};
+use crate::analysis::Evaluated;
 
 /// A sample of one of the kinds the batch must handle alike: near its exact state (errors
 /// 1e-18 to 1e-2: the small-angle series), on the constraints (errors up to 1: large angles,
@@ -73,16 +72,7 @@ fn compare(path: BatchPath, seed: u64) -> usize {
     while compared < 120_000 {
         let fields = fields(&mut rng);
         let (_, start) = sample(&mut rng, 1.0);
-        let i0 = integrals(&fields, &start);
-        let m = DdMeasure {
-            fields,
-            n: ManifoldN {
-                k: dd(&mut rng, 0.3),
-                p2: dd(&mut rng, 1.7),
-                r4m: dd(&mut rng, -0.2),
-            },
-            initial_integrals: [i0.h, i0.k, i0.g],
-        };
+        let m = dd_measure(&mut rng, fields, &start);
         let len = rng.gen_range(1..=70);
         let (xs, exact): (Vec<[f64; 9]>, Vec<State<Dd>>) =
             (0..len).map(|_| any_sample(&mut rng)).unzip();
@@ -93,7 +83,7 @@ fn compare(path: BatchPath, seed: u64) -> usize {
         }
         assert_eq!(out.len(), len);
         for (n, ((ev, x), e)) in out.iter().zip(&xs).zip(&exact).enumerate() {
-            let scalar = evaluated_alone(&m, e, x, ratio);
+            let scalar = evaluated(measure_portable(&m, e, x, ratio, false));
             assert_eq!(
                 bits(ev),
                 bits(&scalar),
@@ -105,18 +95,6 @@ fn compare(path: BatchPath, seed: u64) -> usize {
         compared += len;
     }
     compared
-}
-
-/// The scalar kernel's measure of one sample.
-fn evaluated_alone(m: &DdMeasure, e: &State<Dd>, x: &[f64; 9], ratio: f64) -> Evaluated {
-    let (errors, snapshots, digits) = measure_portable(m, e, x, ratio, false);
-    Evaluated {
-        exact: None,
-        errors,
-        digits,
-        snapshots,
-        geometry: None,
-    }
 }
 
 #[test]
