@@ -331,13 +331,64 @@ fn small_angle4(sin: D4, cos: D4) -> D4 {
     let mut angle = z - z * w * D4::splat(THIRD);
     angle = lanes!(|i| angle.lane(i).add_f64(tail[i]));
     if !every_lane(series) {
+        let (table, valid) = arctangent4(sin, cos);
         for (i, series) in series.into_iter().enumerate() {
             if !series {
-                angle.set_lane(i, small_angle(sin.lane(i), cos.lane(i)));
+                let lane = if valid[i] {
+                    table.lane(i)
+                } else {
+                    small_angle(sin.lane(i), cos.lane(i))
+                };
+                angle.set_lane(i, lane);
             }
         }
     }
     angle
+}
+
+/// [`arctangent::arctangent`] of four lanes, the table's point chosen per lane, and where it
+/// holds (false: a zero or non-finite argument, which the scalar function hands to atan2).
+#[inline(always)]
+fn arctangent4(sin: D4, cos: D4) -> (D4, [bool; LANES]) {
+    use super::arctangent::{FIFTH, HALF_PI, STEPS, THIRD};
+    use super::atan_table::ATAN;
+    let across = abs4(cos);
+    let mut swap = [false; LANES];
+    let (mut a, mut b) = (sin, across);
+    let mut valid = [false; LANES];
+    let mut k = [0usize; LANES];
+    let mut c = [0.0; LANES];
+    let mut table = D4::default();
+    for i in 0..LANES {
+        swap[i] = sin.hi[i] > across.hi[i];
+        if swap[i] {
+            a.set_lane(i, across.lane(i));
+            b.set_lane(i, sin.lane(i));
+        }
+        valid[i] = b.hi[i] > 0.0 && b.hi[i].is_finite() && a.hi[i] >= 0.0;
+        let nearest = if valid[i] {
+            a.hi[i] / b.hi[i] * f64::from(STEPS) + 0.5
+        } else {
+            0.0
+        };
+        k[i] = (nearest as usize).min(STEPS as usize);
+        c[i] = k[i] as f64 / f64::from(STEPS);
+        (table.hi[i], table.lo[i]) = ATAN[k[i]];
+    }
+    let u = (a - b.mul_f64(c)) / (b + a.mul_f64(c));
+    let w = u.sqr();
+    let mut tail = [0.0; LANES];
+    for ((t, u), w1) in tail.iter_mut().zip(u.hi).zip(w.hi) {
+        *t = u * w1 * w1 * w1 * (-1.0 / 7.0 + w1 * (1.0 / 9.0 - w1 * (1.0 / 11.0 - w1 / 13.0)));
+    }
+    let series = u - u * w * (D4::splat(THIRD) - w * D4::splat(FIFTH));
+    let z = table + lanes!(|i| series.lane(i).add_f64(tail[i]));
+    let angle = D4::select(swap, D4::splat(HALF_PI) - z, z);
+    let mut behind = [false; LANES];
+    for (behind, h) in behind.iter_mut().zip(cos.hi) {
+        *behind = h < 0.0;
+    }
+    (D4::select(behind, D4::splat(Dd::PI) - angle, angle), valid)
 }
 
 #[cfg(test)]
