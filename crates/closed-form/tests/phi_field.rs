@@ -7,9 +7,9 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rsts_closed_form::manifold::distance::{
-    gain, gradient, stretches, Energy, Kowalevski, PhaseFunction, Phi,
+    constraint_columns, gain, gradient, gram, stretches, Energy, Kowalevski, PhaseFunction, Phi,
 };
-use rsts_closed_form::manifold::field_derivative::phi_field_derivative;
+use rsts_closed_form::manifold::field_derivative::{phi_field_derivative, PhiFieldDerivative};
 use rsts_closed_form::manifold::phi_field::{
     integral_gradients, phi_field_derivative_jet, phi_gradient,
 };
@@ -144,4 +144,41 @@ fn written_out_derivative_of_x_phi_equals_the_jet_derivative() {
     }
     eprintln!("written-out vs jet derivative of X_Φ: {worst:e} of the largest entry");
     assert!(worst < 1e-13, "{worst:e}");
+}
+
+/// The derivative of X_Φ along six directions at once (lane by lane, stop 31) is the same number
+/// as along each direction alone, at random states along directions of δω or (δα, δβ) alone and
+/// along any; and the gain's Gram matrix from it is the one from the columns one at a time.
+#[test]
+fn six_directions_at_once_are_the_numbers_of_one_at_a_time() {
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    for case in 0..3000 {
+        let (fields, s) = random::<f64>(&mut rng, 53);
+        let kind = case % 3;
+        let directions: [[f64; DIM]; 6] = std::array::from_fn(|_| {
+            std::array::from_fn(|k| match (kind, k < 3) {
+                (0, false) | (1, true) => 0.0,
+                _ => rng.gen_range(-1.0..1.0),
+            })
+        });
+        let d = PhiFieldDerivative::new(&fields, &s);
+        let six = d.along_six(&directions);
+        for (j, delta) in directions.iter().enumerate() {
+            let one = d.along(delta);
+            for k in 0..DIM {
+                assert_eq!(six[k].0[j], one[k], "case {case}, direction {j}, entry {k}");
+            }
+        }
+        let columns = constraint_columns(&fields, &s);
+        let g = gram(&fields, &s);
+        for p in 0..6 {
+            for q in 0..=p {
+                let mut sum = 0.0;
+                for (x, y) in columns[p].iter().zip(&columns[q]) {
+                    sum += x * y;
+                }
+                assert_eq!(g[p][q], sum, "case {case}, Gram entry ({p}, {q})");
+            }
+        }
+    }
 }

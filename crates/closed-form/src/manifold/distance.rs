@@ -192,20 +192,28 @@ fn fields_f64<T: Real>(fields: &Fields<T>) -> Fields<f64> {
 /// constraint surface ([`largest_eigenvalue`]). The eigenvalue is accurate to a few ulps of |J|² (so the gain to a few
 /// ulps of itself, being |J|₂); only the small singular values need the SVD of [`stretches`].
 pub fn gain(fields: &Fields<f64>, s: &State<f64>) -> f64 {
-    let columns = constraint_columns(fields, s);
-    // The lower triangle only: the eigenvalue reads no other. Each entry the dot product of two
-    // columns, summed in order.
+    largest_eigenvalue(gram(fields, s)).max(0.0).sqrt()
+}
+
+/// The lower triangle of the Gram matrix JᵀJ of [`constraint_derivative`]: each entry the dot
+/// product of two columns, summed in order. The six columns are computed lane by lane
+/// ([`PhiFieldDerivative::along_six`], stop 31: the same numbers as one direction at a time,
+/// [`constraint_columns`], in two thirds of the instructions).
+#[allow(clippy::needless_range_loop)] // the index ranges are the triangle's
+pub fn gram(fields: &Fields<f64>, s: &State<f64>) -> [[f64; 6]; 6] {
+    let d = PhiFieldDerivative::new(fields, s);
+    let j = d.along_six(&constraint_directions(s));
     let mut gram = [[0.0; 6]; 6];
     for p in 0..6 {
         for q in 0..=p {
             let mut sum = 0.0;
-            for (x, y) in columns[p].iter().zip(&columns[q]) {
-                sum += x * y;
+            for row in &j {
+                sum += row.0[p] * row.0[q];
             }
             gram[p][q] = sum;
         }
     }
-    largest_eigenvalue(gram).max(0.0).sqrt()
+    gram
 }
 
 /// The derivative J (9×6) of X_Φ along six orthonormal directions of the constraint surface
@@ -215,12 +223,13 @@ fn constraint_derivative(fields: &Fields<f64>, s: &State<f64>) -> [[f64; 6]; DIM
     std::array::from_fn(|k| std::array::from_fn(|j| columns[j][k]))
 }
 
-/// The columns of [`constraint_derivative`].
-fn constraint_columns(fields: &Fields<f64>, s: &State<f64>) -> [[f64; DIM]; 6] {
+/// The six directions of [`constraint_derivative`].
+#[inline(always)]
+fn constraint_directions(s: &State<f64>) -> [[f64; DIM]; 6] {
     let gamma = s.gamma();
     let s2 = std::f64::consts::FRAC_1_SQRT_2;
     let rotations = [s.alpha, s.beta, gamma.map(|x| x * s2)];
-    let directions: [[f64; DIM]; 6] = std::array::from_fn(|j| {
+    std::array::from_fn(|j| {
         let mut d = [0.0; DIM];
         if j < 3 {
             d[j] = 1.0;
@@ -231,9 +240,16 @@ fn constraint_columns(fields: &Fields<f64>, s: &State<f64>) -> [[f64; DIM]; 6] {
             d[6..9].copy_from_slice(&db);
         }
         d
-    });
+    })
+}
+
+/// The columns of [`constraint_derivative`], one direction at a time
+/// ([`PhiFieldDerivative::along`]).
+pub fn constraint_columns(fields: &Fields<f64>, s: &State<f64>) -> [[f64; DIM]; 6] {
     let d = PhiFieldDerivative::new(fields, s);
-    directions.each_ref().map(|delta| d.along(delta))
+    constraint_directions(s)
+        .each_ref()
+        .map(|delta| d.along(delta))
 }
 
 /// The singular values (largest first) of the derivative of X_Φ along the six directions of

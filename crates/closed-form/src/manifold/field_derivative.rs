@@ -23,12 +23,15 @@
 //! [`phi_field`]: super::phi_field::phi_field
 //! [`phi_field_derivative_jet`]: super::phi_field::phi_field_derivative_jet
 
+use std::ops::{Add, Mul};
+
 use rsts_dynamics::integrals::{energy, third};
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::vec3::{cross, dot};
 use rsts_dynamics::{Fields, State};
 
 use crate::manifold::distance::hamiltonian_field;
+use crate::manifold::lanes::{self, Lanes};
 use crate::manifold::phi_field::integral_gradients;
 
 /// What DX_Φ·δ needs of the state, computed once for every direction.
@@ -64,6 +67,32 @@ fn add3(u: &[f64; 3], v: &[f64; 3]) -> [f64; 3] {
 
 fn dot9(u: &[f64; DIM], v: &[f64; DIM]) -> f64 {
     (0..DIM).map(|k| u[k] * v[k]).sum()
+}
+
+/// ∇²G·δ from (δ∂G/∂M, δ∂G/∂A, δ∂G/∂B, δR) of the module doc and (a/2, b/2), for one
+/// direction or six lanes.
+#[inline(always)]
+fn hessian_g_of<T: Copy + Add<Output = T>>(
+    [half_a, half_b]: [f64; 2],
+    g_m: [T; 3],
+    g_a: [T; 3],
+    g_b: [T; 3],
+    dr: T,
+) -> [T; DIM]
+where
+    f64: Mul<T, Output = T>,
+{
+    [
+        g_m[0],
+        g_m[1],
+        0.5 * (g_m[2] + dr),
+        half_a * g_a[0],
+        half_a * g_a[1],
+        half_a * g_a[2],
+        half_b * g_b[0],
+        half_b * g_b[1],
+        half_b * g_b[2],
+    ]
 }
 
 impl PhiFieldDerivative {
@@ -141,17 +170,7 @@ impl PhiFieldDerivative {
                 g_b[i] += dq * m[i] + w3 * mxda[i];
             }
         }
-        [
-            g_m[0],
-            g_m[1],
-            0.5 * (g_m[2] + dr),
-            0.5 * a * g_a[0],
-            0.5 * a * g_a[1],
-            0.5 * a * g_a[2],
-            0.5 * b * g_b[0],
-            0.5 * b * g_b[1],
-            0.5 * b * g_b[2],
-        ]
+        hessian_g_of([0.5 * a, 0.5 * b], g_m, g_a, g_b, dr)
     }
 
     /// ∇²Φ·δ.
@@ -211,6 +230,146 @@ impl PhiFieldDerivative {
         let moved = self.moved(delta);
         let turned = hamiltonian_field(&self.state, &self.hessian_phi(delta));
         std::array::from_fn(|k| moved[k] + turned[k])
+    }
+}
+
+impl PhiFieldDerivative {
+    /// [`PhiFieldDerivative::along`] of six directions at once (stop 31), lane j along
+    /// `directions[j]`, as `out[k]` = component k: the same operations in the same order on
+    /// each lane, without skipping the blocks of δ that vanish (their products are exact zeros,
+    /// which leave every non-zero sum unchanged), so each lane is the same number as `along`'s
+    /// (tests/phi_field.rs). Inlined into its caller, with the caller's vector instructions.
+    #[inline(always)]
+    pub fn along_six(&self, directions: &[[f64; DIM]; 6]) -> [Lanes; DIM] {
+        let delta: [Lanes; DIM] = std::array::from_fn(|k| Lanes(directions.map(|d| d[k])));
+        let moved = self.moved_six(&delta);
+        let turned = self.turn_six(&self.hessian_phi_six(&delta));
+        std::array::from_fn(|k| moved[k] + turned[k])
+    }
+
+    /// [`PhiFieldDerivative::hessian_g`] lane by lane.
+    #[inline(always)]
+    fn hessian_g_six(&self, delta: &[Lanes; DIM]) -> [Lanes; DIM] {
+        let [a, b] = self.fields;
+        let w3 = self.state.omega[2];
+        let (m, big_a, big_b) = (&self.m, &self.big_a, &self.big_b);
+        let (p, q, axb) = (self.p, self.q, &self.axb);
+        // The part linear in δω.
+        let dw3 = delta[2];
+        let dm = [2.0 * delta[0], 2.0 * delta[1], dw3];
+        let (dp, dq) = (lanes::dot(&dm, big_a), lanes::dot(&dm, big_b));
+        let mut dr = lanes::dot(&dm, axb);
+        let (bxdm, dmxa) = (lanes::cross(big_b, &dm), lanes::cross(&dm, big_a));
+        let mut g_m: [Lanes; 3] =
+            std::array::from_fn(|i| dp * big_a[i] + dq * big_b[i] + dw3 * axb[i]);
+        let mut g_a: [Lanes; 3] =
+            std::array::from_fn(|i| dp * m[i] + p * dm[i] + dw3 * self.bxm[i] + w3 * bxdm[i]);
+        let mut g_b: [Lanes; 3] =
+            std::array::from_fn(|i| dq * m[i] + q * dm[i] + dw3 * self.mxa[i] + w3 * dmxa[i]);
+        // The part linear in (δα, δβ).
+        let da = [a * delta[3], a * delta[4], a * delta[5]];
+        let db = [b * delta[6], b * delta[7], b * delta[8]];
+        let (dp, dq) = (lanes::dot(m, &da), lanes::dot(m, &db));
+        let d_axb: [Lanes; 3] = {
+            let (u, v) = (lanes::cross(&da, big_b), lanes::cross(big_a, &db));
+            [u[0] + v[0], u[1] + v[1], u[2] + v[2]]
+        };
+        dr = dr + lanes::dot(m, &d_axb);
+        let (dbxm, mxda) = (lanes::cross(&db, m), lanes::cross(m, &da));
+        for i in 0..3 {
+            g_m[i] =
+                g_m[i] + (dp * big_a[i] + p * da[i] + dq * big_b[i] + q * db[i] + w3 * d_axb[i]);
+            g_a[i] = g_a[i] + (dp * m[i] + w3 * dbxm[i]);
+            g_b[i] = g_b[i] + (dq * m[i] + w3 * mxda[i]);
+        }
+        hessian_g_of([0.5 * a, 0.5 * b], g_m, g_a, g_b, dr)
+    }
+
+    /// [`PhiFieldDerivative::hessian_phi`] lane by lane.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // k indexes ∇L and δ alike
+    fn hessian_phi_six(&self, delta: &[Lanes; DIM]) -> [Lanes; DIM] {
+        let [a, b] = self.fields;
+        let [w1, w2, _] = self.state.omega;
+        let (d0, d1) = (delta[0], delta[1]);
+        let dx = 2.0 * (w1 * d0 - w2 * d1) + a * delta[3] - b * delta[7];
+        let dy = 2.0 * (w2 * d0 + w1 * d1) + a * delta[4] + b * delta[6];
+        let mut dl = self.grad_l[0] * delta[0];
+        for k in 1..DIM {
+            dl = dl + self.grad_l[k] * delta[k];
+        }
+        let hg = self.hessian_g_six(delta);
+        let zero = Lanes::splat(0.0);
+        let hx = [2.0 * d0, -2.0 * d1, zero];
+        let hy = [2.0 * d1, 2.0 * d0, zero];
+        let hh = [2.0 * d0, 2.0 * d1, delta[2]];
+        std::array::from_fn(|i| {
+            let mut hk = 2.0 * (dx * self.grad_x[i] + dy * self.grad_y[i]);
+            let mut hl = 2.0 * hg[i];
+            if i < 3 {
+                hk = hk + 2.0 * (self.x * hx[i] + self.y * hy[i]);
+                hl = hl - self.p2 * hh[i];
+            }
+            self.r4 * hk - 2.0 * (dl * self.grad_l[i] + self.l * hl)
+        })
+    }
+
+    /// [`PhiFieldDerivative::moved`] lane by lane.
+    #[inline(always)]
+    fn moved_six(&self, delta: &[Lanes; DIM]) -> [Lanes; DIM] {
+        let g = &self.grad_phi;
+        let d_m = [0.5 * g[0], 0.5 * g[1], g[2]];
+        let m = [2.0 * delta[0], 2.0 * delta[1], delta[2]];
+        let c = lanes::cross(&m, &d_m);
+        let da = [delta[3], delta[4], delta[5]];
+        let db = [delta[6], delta[7], delta[8]];
+        let (u, v) = (
+            lanes::cross(&da, &[g[3], g[4], g[5]]),
+            lanes::cross(&db, &[g[6], g[7], g[8]]),
+        );
+        let e = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
+        let (ca, cb) = (lanes::cross(&da, &d_m), lanes::cross(&db, &d_m));
+        [
+            0.5 * c[0] + 0.5 * e[0],
+            0.5 * c[1] + 0.5 * e[1],
+            c[2] + e[2],
+            ca[0],
+            ca[1],
+            ca[2],
+            cb[0],
+            cb[1],
+            cb[2],
+        ]
+    }
+
+    /// [`hamiltonian_field`] at the state of a gradient given lane by lane.
+    #[inline(always)]
+    fn turn_six(&self, grad: &[Lanes; DIM]) -> [Lanes; DIM] {
+        let s = &self.state;
+        let m = [2.0 * s.omega[0], 2.0 * s.omega[1], s.omega[2]];
+        let d_m = [grad[0] * 0.5, grad[1] * 0.5, grad[2]];
+        let d_alpha = [grad[3], grad[4], grad[5]];
+        let d_beta = [grad[6], grad[7], grad[8]];
+        let mut m_dot = lanes::cross(&m, &d_m);
+        for (v, dv) in [(&s.alpha, &d_alpha), (&s.beta, &d_beta)] {
+            let c = lanes::cross(v, dv);
+            for i in 0..3 {
+                m_dot[i] = m_dot[i] + c[i];
+            }
+        }
+        let alpha_dot = lanes::cross(&s.alpha, &d_m);
+        let beta_dot = lanes::cross(&s.beta, &d_m);
+        [
+            m_dot[0] * 0.5,
+            m_dot[1] * 0.5,
+            m_dot[2],
+            alpha_dot[0],
+            alpha_dot[1],
+            alpha_dot[2],
+            beta_dot[0],
+            beta_dot[1],
+            beta_dot[2],
+        ]
     }
 }
 

@@ -6,6 +6,7 @@
 pub mod distance;
 pub mod field_derivative;
 pub mod identify;
+pub mod lanes;
 mod least_squares;
 pub mod normal;
 pub mod phi_field;

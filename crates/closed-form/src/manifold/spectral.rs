@@ -28,55 +28,71 @@ fn tridiagonal<const N: usize>(lower: [[f64; N]; N]) -> ([f64; N], [f64; N]) {
     let mut a: [[f64; N]; N] = std::array::from_fn(|i| {
         std::array::from_fn(|j| if i >= j { lower[i][j] } else { lower[j][i] })
     });
-    // Householder: zero column k below the subdiagonal, A ← HAH on the trailing block.
-    for k in 0..N.saturating_sub(2) {
-        let mut sum = 0.0;
-        for i in k + 1..N {
-            sum += a[i][k] * a[i][k];
+    // Householder: zero column k below the subdiagonal, A ← HAH on the trailing block. For the
+    // 6×6 Gram matrix of the gain each step is inlined with its k (stop 31): its loops then have
+    // fixed lengths, which the compiler unrolls (the same operations in the same order).
+    if N == 6 {
+        reflect(&mut a, 0);
+        reflect(&mut a, 1);
+        reflect(&mut a, 2);
+        reflect(&mut a, 3);
+    } else {
+        for k in 0..N.saturating_sub(2) {
+            reflect(&mut a, k);
         }
-        let norm = sum.sqrt();
-        if norm == 0.0 {
-            continue;
-        }
-        let alpha = if a[k + 1][k] > 0.0 { -norm } else { norm };
-        let mut v = [0.0; N];
-        for i in k + 1..N {
-            v[i] = a[i][k];
-        }
-        v[k + 1] -= alpha;
-        // vᵀv = |column|² − 2α·a[k+1][k] + α² = 2(α² − α·a[k+1][k]).
-        let vv = 2.0 * (norm * norm - alpha * a[k + 1][k]);
-        if vv == 0.0 {
-            continue;
-        }
-        let beta = 2.0 / vv;
-        // p = βAv, q = p − (βvᵀp/2)v, A ← A − vqᵀ − qvᵀ (rows and columns k+1..N).
-        let mut p = [0.0; N];
-        for i in k + 1..N {
-            let mut s = 0.0;
-            for j in k + 1..N {
-                s += a[i][j] * v[j];
-            }
-            p[i] = beta * s;
-        }
-        let mut vp = 0.0;
-        for i in k + 1..N {
-            vp += v[i] * p[i];
-        }
-        let c = 0.5 * beta * vp;
-        for i in k + 1..N {
-            p[i] -= c * v[i];
-        }
-        for i in k + 1..N {
-            for j in k + 1..N {
-                a[i][j] -= v[i] * p[j] + p[i] * v[j];
-            }
-        }
-        a[k + 1][k] = alpha;
     }
     let d: [f64; N] = std::array::from_fn(|i| a[i][i]);
     let e: [f64; N] = std::array::from_fn(|i| if i + 1 < N { a[i + 1][i] } else { 0.0 });
     (d, e)
+}
+
+/// One Householder step of [`tridiagonal`]: column k zeroed below the subdiagonal.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // the index ranges are the algorithm's
+fn reflect<const N: usize>(a: &mut [[f64; N]; N], k: usize) {
+    let mut sum = 0.0;
+    for i in k + 1..N {
+        sum += a[i][k] * a[i][k];
+    }
+    let norm = sum.sqrt();
+    if norm == 0.0 {
+        return;
+    }
+    let alpha = if a[k + 1][k] > 0.0 { -norm } else { norm };
+    let mut v = [0.0; N];
+    for i in k + 1..N {
+        v[i] = a[i][k];
+    }
+    v[k + 1] -= alpha;
+    // vᵀv = |column|² − 2α·a[k+1][k] + α² = 2(α² − α·a[k+1][k]).
+    let vv = 2.0 * (norm * norm - alpha * a[k + 1][k]);
+    if vv == 0.0 {
+        return;
+    }
+    let beta = 2.0 / vv;
+    // p = βAv, q = p − (βvᵀp/2)v, A ← A − vqᵀ − qvᵀ (rows and columns k+1..N).
+    let mut p = [0.0; N];
+    for i in k + 1..N {
+        let mut s = 0.0;
+        for j in k + 1..N {
+            s += a[i][j] * v[j];
+        }
+        p[i] = beta * s;
+    }
+    let mut vp = 0.0;
+    for i in k + 1..N {
+        vp += v[i] * p[i];
+    }
+    let c = 0.5 * beta * vp;
+    for i in k + 1..N {
+        p[i] -= c * v[i];
+    }
+    for i in k + 1..N {
+        for j in k + 1..N {
+            a[i][j] -= v[i] * p[j] + p[i] * v[j];
+        }
+    }
+    a[k + 1][k] = alpha;
 }
 
 /// The largest eigenvalue of the symmetric tridiagonal T (diagonal `d`, off-diagonal `e`) and
