@@ -91,9 +91,19 @@ pub(crate) fn of_differences(
         size[k] = y[k].abs();
         scale[k] = size[k].add_f64(ratio);
     }
+    of_sizes(d, &size, &scale)
+}
+
+/// [`of_differences`] from the differences d, the sizes |y| and the scales |y| + atol/rtol.
+#[inline(always)]
+pub(crate) fn of_sizes(
+    d: &[DoubleDouble; 9],
+    size: &[DoubleDouble; 9],
+    scale: &[DoubleDouble; 9],
+) -> (f64, f64) {
     // Relative errors of 0 size have no scale: left out.
-    let relative = largest_quotient(d, &size, |k| size[k].to_f64() != 0.0);
-    let mixed = largest_quotient(d, &scale, |_| true);
+    let relative = largest_quotient(d, size, |k| size[k].to_f64() != 0.0);
+    let mixed = largest_quotient(d, scale, |_| true);
     (relative, mixed)
 }
 

@@ -254,6 +254,9 @@ pub(crate) fn small_angle(sin: Dd, cos: Dd) -> Dd {
 
 mod arctangent;
 mod atan_table;
+mod four;
+
+pub(crate) use four::f64_sample_errors4;
 
 #[cfg(test)]
 mod tests;

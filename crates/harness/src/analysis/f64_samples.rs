@@ -7,11 +7,12 @@
 
 use rug::Float;
 
-use rsts_dynamics::scalar::DoubleDouble;
+use rsts_closed_form::BatchPath;
+use rsts_dynamics::scalar::{DoubleDouble, LANES};
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::State;
 
-use super::f64_errors::f64_sample_errors;
+use super::f64_errors::{f64_sample_errors, f64_sample_errors4};
 use super::{Analysis, DdMeasure, Evaluated, Observer};
 use crate::geometry::WarmStart;
 use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
@@ -53,43 +54,30 @@ impl Analysis {
                     unreachable!("checked above")
                 };
                 let exact = dd.states(ts);
-                // The projector of each sample starts from the one before (the first: cold).
-                let mut warm = WarmStart::default();
-                out.extend(
-                    ts.iter()
-                        .zip(xs)
-                        .zip(exact)
-                        .map(|((t, x), e)| me.evaluate_f64(m, *t, x, e, wanted, &mut warm)),
-                );
+                let start = out.len();
+                measure_all(m, &exact, xs, me.digits.ratio(), wanted, out);
+                me.geometry_f64(ts, xs, &exact, &mut out[start..]);
             },
             |t, _| (*t, None),
             super::CHUNK,
         )
     }
 
-    /// What an f64 sample's errors are, in double-double, apart from the samples before it
-    /// (`exact`: its state from
-    /// [`crate::rounded_reference::DdReference::states`]).
-    fn evaluate_f64(
+    /// The geometry of each f64 sample of a chunk (`out`: their errors measured), in time
+    /// order: the projector of each sample starts from the one before (the first: cold).
+    fn geometry_f64(
         &self,
-        m: &DdMeasure,
-        t: f64,
-        x: &[f64; DIM],
-        exact: State<DoubleDouble>,
-        snapshots: bool,
-        warm: &mut WarmStart,
-    ) -> Evaluated {
-        let (errors, snapshots, digits) = measure(m, &exact, x, self.digits.ratio(), snapshots);
-        let geometry = self
-            .geometry
-            .as_ref()
-            .and_then(|g| g.evaluate_f64(t, x, &exact, warm));
-        Evaluated {
-            exact: None,
-            errors,
-            digits,
-            snapshots,
-            geometry,
+        ts: &[f64],
+        xs: &[[f64; DIM]],
+        exact: &[State<DoubleDouble>],
+        out: &mut [Evaluated],
+    ) {
+        let Some(g) = self.geometry.as_ref() else {
+            return;
+        };
+        let mut warm = WarmStart::default();
+        for (((ev, t), x), e) in out.iter_mut().zip(ts).zip(xs).zip(exact) {
+            ev.geometry = g.evaluate_f64(*t, x, e, &mut warm);
         }
     }
 }
@@ -149,4 +137,101 @@ pub(super) fn measure_portable(
         None
     };
     (errors, snapshots, digits)
+}
+
+/// A sample's measures as evaluated (its geometry to come).
+#[inline(always)]
+pub(super) fn evaluated((errors, snapshots, digits): Measured) -> Evaluated {
+    Evaluated {
+        exact: None,
+        errors,
+        digits,
+        snapshots,
+        geometry: None,
+    }
+}
+
+/// The errors of each f64 sample `xs[i]` against `exact[i]`, appended to `out` (no geometry
+/// yet): four samples at a time on a CPU with AVX2 and FMA, otherwise one at a time
+/// ([`measure`]); the same numbers either way.
+fn measure_all(
+    m: &DdMeasure,
+    exact: &[State<DoubleDouble>],
+    xs: &[[f64; DIM]],
+    ratio: f64,
+    snapshots: bool,
+    out: &mut Vec<Evaluated>,
+) {
+    if !measure_all_on(BatchPath::Avx2Fma, m, exact, xs, ratio, snapshots, out) {
+        for (e, x) in exact.iter().zip(xs) {
+            out.push(evaluated(measure(m, e, x, ratio, snapshots)));
+        }
+    }
+}
+
+/// [`measure_all`] four at a time on a given build; false (and nothing appended) when this
+/// CPU lacks it.
+pub(super) fn measure_all_on(
+    path: BatchPath,
+    m: &DdMeasure,
+    exact: &[State<DoubleDouble>],
+    xs: &[[f64; DIM]],
+    ratio: f64,
+    snapshots: bool,
+    out: &mut Vec<Evaluated>,
+) -> bool {
+    if !path.available() {
+        return false;
+    }
+    match path {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: the CPU has AVX2 and FMA (checked just above).
+        BatchPath::Avx2Fma => unsafe { measure_all_avx2(m, exact, xs, ratio, snapshots, out) },
+        _ => measure_all_portable(m, exact, xs, ratio, snapshots, out),
+    }
+    true
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn measure_all_avx2(
+    m: &DdMeasure,
+    exact: &[State<DoubleDouble>],
+    xs: &[[f64; DIM]],
+    ratio: f64,
+    snapshots: bool,
+    out: &mut Vec<Evaluated>,
+) {
+    measure_all_portable(m, exact, xs, ratio, snapshots, out)
+}
+
+/// [`f64_sample_errors4`] of each group of four samples (errors and digits), the rest (and
+/// every sample when the snapshots are asked) by [`measure_portable`]. Plain loops, no
+/// closure: compiled with the caller's features.
+#[inline(always)]
+fn measure_all_portable(
+    m: &DdMeasure,
+    exact: &[State<DoubleDouble>],
+    xs: &[[f64; DIM]],
+    ratio: f64,
+    snapshots: bool,
+    out: &mut Vec<Evaluated>,
+) {
+    let grouped = if snapshots {
+        0
+    } else {
+        exact.len().min(xs.len()) / LANES * LANES
+    };
+    for (e, x) in exact[..grouped]
+        .chunks_exact(LANES)
+        .zip(xs[..grouped].chunks_exact(LANES))
+    {
+        let four = f64_sample_errors4(&m.fields, &m.n, &m.initial_integrals, e, x, ratio);
+        for (errors, digits) in four {
+            out.push(evaluated((errors, None, digits)));
+        }
+    }
+    for (e, x) in exact[grouped..].iter().zip(&xs[grouped..]) {
+        out.push(evaluated(measure_portable(m, e, x, ratio, snapshots)));
+    }
 }

@@ -15,18 +15,18 @@ use rsts_dynamics::Real;
 use super::atan_table::ATAN;
 
 /// The table's points are k/STEPS, k = 0…STEPS.
-const STEPS: u32 = 256;
+pub(super) const STEPS: u32 = 256;
 
 /// 1/3, 1/5 and π/2 to 106 bits.
-const THIRD: Dd = Dd {
+pub(super) const THIRD: Dd = Dd {
     hi: 0.3333333333333333,
     lo: 1.850371707708594e-17,
 };
-const FIFTH: Dd = Dd {
+pub(super) const FIFTH: Dd = Dd {
     hi: 0.2,
     lo: -1.1102230246251566e-17,
 };
-const HALF_PI: Dd = Dd {
+pub(super) const HALF_PI: Dd = Dd {
     hi: std::f64::consts::FRAC_PI_2,
     lo: 6.123233995736766e-17,
 };

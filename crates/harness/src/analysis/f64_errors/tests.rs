@@ -6,6 +6,7 @@ use rand_chacha::ChaCha8Rng;
 use rug::Float;
 
 use super::*;
+use crate::analysis::DdMeasure;
 use crate::digits::sample_errors_dd;
 use crate::metrics::sample_errors;
 use rsts_dynamics::integrals::integrals;
@@ -14,12 +15,12 @@ use rsts_dynamics::vec3::{mul_bt, rotation_angle};
 const MP: u32 = 300;
 
 /// A double-double with a random low part (a value not on the f64 grid).
-fn dd(rng: &mut ChaCha8Rng, x: f64) -> Dd {
+pub(super) fn dd(rng: &mut ChaCha8Rng, x: f64) -> Dd {
     Dd::from_f64_exact(x).add_f64(x * 1e-17 * rng.gen_range(-0.5..0.5))
 }
 
 /// Fields a > b with low parts (a decimal like 1.1 is not an f64).
-fn fields(rng: &mut ChaCha8Rng) -> Fields<Dd> {
+pub(super) fn fields(rng: &mut ChaCha8Rng) -> Fields<Dd> {
     let a = rng.gen_range(0.5..3.0);
     let b = a * rng.gen_range(0.0..1.0);
     Fields {
@@ -30,7 +31,7 @@ fn fields(rng: &mut ChaCha8Rng) -> Fields<Dd> {
 
 /// A random state (ω of size up to `w`, α, β orthonormal to f64 rounding) and an exact state
 /// near it: each component moved by up to 10^`e` (e from −18 to −2), with a low part.
-fn sample(rng: &mut ChaCha8Rng, w: f64) -> ([f64; 9], State<Dd>) {
+pub(super) fn sample(rng: &mut ChaCha8Rng, w: f64) -> ([f64; 9], State<Dd>) {
     let unit = |v: [f64; 3]| {
         let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         v.map(|c| c / n)
@@ -48,6 +49,20 @@ fn sample(rng: &mut ChaCha8Rng, w: f64) -> ([f64; 9], State<Dd>) {
         dd(rng, moved)
     });
     (x, State::from_slice(&y))
+}
+
+/// `fields`, a random N and the initial integrals of `start`.
+pub(super) fn dd_measure(rng: &mut ChaCha8Rng, fields: Fields<Dd>, start: &State<Dd>) -> DdMeasure {
+    let i0 = integrals(&fields, start);
+    DdMeasure {
+        fields,
+        n: ManifoldN {
+            k: dd(rng, 0.3),
+            p2: dd(rng, 1.7),
+            r4m: dd(rng, -0.2),
+        },
+        initial_integrals: [i0.h, i0.k, i0.g],
+    }
 }
 
 /// Every number of a sample's errors and digits but the orientation error is the general
@@ -150,7 +165,6 @@ fn fma_and_portable_builds_of_the_errors_give_the_same_bits() {
     #[cfg(target_arch = "x86_64")]
     {
         use crate::analysis::f64_samples::{measure_fma, measure_portable};
-        use crate::analysis::DdMeasure;
         if !std::arch::is_x86_feature_detected!("fma") {
             rsts_io::report_skip(
                 "fma_and_portable_builds_of_the_errors_give_the_same_bits",
@@ -162,16 +176,7 @@ fn fma_and_portable_builds_of_the_errors_give_the_same_bits() {
         for n in 0..5_000 {
             let fields = fields(&mut rng);
             let (x, exact) = sample(&mut rng, [0.1, 1.0, 3.0][n % 3]);
-            let i0 = integrals(&fields, &exact);
-            let m = DdMeasure {
-                fields,
-                n: ManifoldN {
-                    k: dd(&mut rng, 0.3),
-                    p2: dd(&mut rng, 1.7),
-                    r4m: dd(&mut rng, -0.2),
-                },
-                initial_integrals: [i0.h, i0.k, i0.g],
-            };
+            let m = dd_measure(&mut rng, fields, &exact);
             // SAFETY: the processor has FMA (checked above).
             let (a, _, da) = unsafe { measure_fma(&m, &exact, &x, 1e-3, false) };
             let (b, _, db) = measure_portable(&m, &exact, &x, 1e-3, false);
@@ -196,7 +201,7 @@ fn fma_and_portable_builds_of_the_errors_give_the_same_bits() {
 
 /// An exact state in double-double on the constraints (α̃, β̃ orthonormal within 2⁻¹⁰⁶: made
 /// in MPFR) and f64 data near it, each component moved by up to 10^`e`, e from −18 to 0.
-fn on_constraints(rng: &mut ChaCha8Rng) -> ([f64; 9], State<Dd>) {
+pub(super) fn on_constraints(rng: &mut ChaCha8Rng) -> ([f64; 9], State<Dd>) {
     let mp = |v: [f64; 3]| v.map(|c| Float::with_val(MP, c));
     let dot = |u: &[Float; 3], v: &[Float; 3]| {
         Float::with_val(MP, &u[0] * &v[0])

@@ -1,0 +1,142 @@
+//! The errors of four samples at once are the scalar kernel's, bit for bit, on both builds.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rsts_closed_form::BatchPath;
+
+use super::super::tests::{dd, dd_measure, fields, on_constraints, sample};
+use super::*;
+use crate::analysis::f64_samples::{evaluated, measure_all_on, measure_portable};
+use crate::analysis::Evaluated;
+
+/// A sample of one of the kinds the batch must handle alike: near its exact state (errors
+/// 1e-18 to 1e-2: the small-angle series), on the constraints (errors up to 1: large angles,
+/// the general arctangent), unrelated (angles up to π), equal to its exact state (no error at
+/// all), or with a NaN or an infinity in the data or in the exact state.
+fn any_sample(rng: &mut ChaCha8Rng) -> ([f64; 9], State<Dd>) {
+    let kind = rng.gen_range(0..20);
+    match kind {
+        0..=9 => sample(rng, [0.1, 1.0, 3.0][kind % 3]),
+        10..=13 => on_constraints(rng),
+        14 | 15 => {
+            let (x, _) = sample(rng, 1.0);
+            let (_, exact) = sample(rng, 1.0);
+            (x, exact)
+        }
+        16 => {
+            let (_, exact) = sample(rng, 1.0);
+            (exact.to_array().map(|v| v.hi), exact)
+        }
+        _ => {
+            let (mut x, exact) = sample(rng, 1.0);
+            let mut y = exact.to_array();
+            let odd = [f64::NAN, f64::INFINITY, -f64::INFINITY][rng.gen_range(0..3)];
+            let k = rng.gen_range(0..9);
+            if kind == 17 {
+                x[k] = odd;
+            } else {
+                y[k] = Dd::from_f64_exact(odd);
+            }
+            (x, State::from_slice(&y))
+        }
+    }
+}
+
+/// The bits of what is compared: the errors and the two digits' errors, any NaN as one (the
+/// sign of a NaN is not a number: the scalar kernel itself, inlined into two callers, gives
+/// NaNs of either sign, as x86 passes on the NaN of an addition's first operand).
+fn bits(ev: &Evaluated) -> [u64; 9] {
+    let e = &ev.errors;
+    [
+        e.state_error,
+        e.orientation_error,
+        e.drift_h,
+        e.drift_k,
+        e.drift_g,
+        e.constraint_drift,
+        e.off_n,
+        ev.digits.0,
+        ev.digits.1,
+    ]
+    .map(|v| if v.is_nan() { f64::NAN } else { v }.to_bits())
+}
+
+/// Batches of 1 to 70 samples (groups of four and a remainder) of every kind mixed in a
+/// group, 120 000 samples in all: each sample's errors and digits are those of the scalar
+/// kernel, bit for bit, on the AVX2 build (skipped on a CPU without it) and on the portable
+/// one. Returns the number of samples compared on `path`.
+fn compare(path: BatchPath, seed: u64) -> usize {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut compared = 0;
+    let mut out = Vec::new();
+    while compared < 120_000 {
+        let fields = fields(&mut rng);
+        let (_, start) = sample(&mut rng, 1.0);
+        let m = dd_measure(&mut rng, fields, &start);
+        let len = rng.gen_range(1..=70);
+        let (xs, exact): (Vec<[f64; 9]>, Vec<State<Dd>>) =
+            (0..len).map(|_| any_sample(&mut rng)).unzip();
+        let ratio = [1.0, 1e-3][compared % 2];
+        out.clear();
+        if !measure_all_on(path, &m, &exact, &xs, ratio, false, &mut out) {
+            return 0;
+        }
+        assert_eq!(out.len(), len);
+        for (n, ((ev, x), e)) in out.iter().zip(&xs).zip(&exact).enumerate() {
+            let scalar = evaluated(measure_portable(&m, e, x, ratio, false));
+            assert_eq!(
+                bits(ev),
+                bits(&scalar),
+                "{path:?}, sample {n} of {len}: x = {x:?}\n{:?}\n{:?}",
+                ev.errors,
+                scalar.errors
+            );
+        }
+        compared += len;
+    }
+    compared
+}
+
+#[test]
+fn four_samples_at_once_give_the_scalar_kernels_bits_on_the_portable_build() {
+    assert!(compare(BatchPath::Portable, 31) >= 100_000);
+}
+
+#[test]
+fn four_samples_at_once_give_the_scalar_kernels_bits_on_the_avx2_build() {
+    if compare(BatchPath::Avx2Fma, 3131) == 0 {
+        rsts_io::report_skip(
+            "four_samples_at_once_give_the_scalar_kernels_bits_on_the_avx2_build",
+            "this CPU has no AVX2 and FMA: only the portable build runs",
+        );
+    }
+}
+
+/// Every lane of a group is its own sample: a group of four different samples and the same
+/// samples placed at other lanes (rotated) give each sample the scalar kernel's numbers, and
+/// the four lanes differ (a kernel that copied one lane into the others fails).
+#[test]
+fn each_lane_of_a_group_is_its_own_sample() {
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let f = fields(&mut rng);
+    let n = ManifoldN {
+        k: dd(&mut rng, 0.3),
+        p2: dd(&mut rng, 1.7),
+        r4m: dd(&mut rng, -0.2),
+    };
+    let i0 = [dd(&mut rng, 0.5), dd(&mut rng, 0.7), dd(&mut rng, 0.9)];
+    for _ in 0..1_000 {
+        let (x, e): (Vec<[f64; 9]>, Vec<State<Dd>>) = (0..5).map(|_| sample(&mut rng, 1.0)).unzip();
+        let got = f64_sample_errors4(&f, &n, &i0, &e[..4], &x[..4], 1.0);
+        let rotated = f64_sample_errors4(&f, &n, &i0, &e[1..], &x[1..], 1.0);
+        for i in 0..4 {
+            let (alone, d) = f64_sample_errors(&f, &n, &i0, &e[i], &x[i]);
+            let digits = crate::digits::of_differences(&d, &e[i].to_array(), 1.0);
+            assert_eq!(format!("{:?}", got[i]), format!("{:?}", (alone, digits)));
+            if i > 0 {
+                assert_eq!(format!("{:?}", got[i]), format!("{:?}", rotated[i - 1]));
+            }
+            assert_ne!(got[i].0.drift_h, got[(i + 1) % 4].0.drift_h, "lane {i}");
+        }
+    }
+}
