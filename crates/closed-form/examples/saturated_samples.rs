@@ -59,7 +59,10 @@ fn main() {
     });
     let nu = motion.frequencies();
     let map = TorusMap::of_motion(&motion);
-    let projector = Projector::new(&motion).expect("a projector for a motion");
+    let projector = Projector::new(&motion).unwrap_or_else(|e| {
+        eprintln!("no projector for the torus of (m, h) = ({m}, {h}): {e}");
+        std::process::exit(2)
+    });
     let two_pi = 2.0 * std::f64::consts::PI;
     // [x_phi, state error] of the samples with and without a nearest point.
     let mut kinds: [[Vec<f64>; 2]; 2] = Default::default();

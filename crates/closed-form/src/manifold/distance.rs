@@ -195,7 +195,7 @@ pub fn gain(fields: &Fields<f64>, s: &State<f64>) -> f64 {
     largest_eigenvalue(gram(fields, s)).max(0.0).sqrt()
 }
 
-/// The lower triangle of the Gram matrix JᵀJ of [`constraint_derivative`]: each entry the dot
+/// The lower triangle of the Gram matrix JᵀJ of `constraint_derivative`: each entry the dot
 /// product of two columns, summed in order. The six columns are computed lane by lane
 /// ([`PhiFieldDerivative::along_six`], stop 31: the same numbers as one direction at a time,
 /// [`constraint_columns`], in two thirds of the instructions).
@@ -223,7 +223,7 @@ fn constraint_derivative(fields: &Fields<f64>, s: &State<f64>) -> [[f64; 6]; DIM
     std::array::from_fn(|k| std::array::from_fn(|j| columns[j][k]))
 }
 
-/// The six directions of [`constraint_derivative`].
+/// The six directions of `constraint_derivative`.
 #[inline(always)]
 fn constraint_directions(s: &State<f64>) -> [[f64; DIM]; 6] {
     let gamma = s.gamma();
@@ -243,13 +243,11 @@ fn constraint_directions(s: &State<f64>) -> [[f64; DIM]; 6] {
     })
 }
 
-/// The columns of [`constraint_derivative`], one direction at a time
-/// ([`PhiFieldDerivative::along`]).
+/// The columns of `constraint_derivative` ([`PhiFieldDerivative::along_six`], column j
+/// from lane j).
 pub fn constraint_columns(fields: &Fields<f64>, s: &State<f64>) -> [[f64; DIM]; 6] {
-    let d = PhiFieldDerivative::new(fields, s);
-    constraint_directions(s)
-        .each_ref()
-        .map(|delta| d.along(delta))
+    let j = PhiFieldDerivative::new(fields, s).along_six(&constraint_directions(s));
+    std::array::from_fn(|i| std::array::from_fn(|k| j[k].0[i]))
 }
 
 /// The singular values (largest first) of the derivative of X_Φ along the six directions of

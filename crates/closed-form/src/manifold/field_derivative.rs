@@ -23,14 +23,11 @@
 //! [`phi_field`]: super::phi_field::phi_field
 //! [`phi_field_derivative_jet`]: super::phi_field::phi_field_derivative_jet
 
-use std::ops::{Add, Mul};
-
 use rsts_dynamics::integrals::{energy, third};
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::vec3::{cross, dot};
 use rsts_dynamics::{Fields, State};
 
-use crate::manifold::distance::hamiltonian_field;
 use crate::manifold::lanes::{self, Lanes};
 use crate::manifold::phi_field::integral_gradients;
 
@@ -61,27 +58,15 @@ pub struct PhiFieldDerivative {
     mxa: [f64; 3],
 }
 
-fn add3(u: &[f64; 3], v: &[f64; 3]) -> [f64; 3] {
-    [u[0] + v[0], u[1] + v[1], u[2] + v[2]]
-}
-
-fn dot9(u: &[f64; DIM], v: &[f64; DIM]) -> f64 {
-    (0..DIM).map(|k| u[k] * v[k]).sum()
-}
-
-/// ∇²G·δ from (δ∂G/∂M, δ∂G/∂A, δ∂G/∂B, δR) of the module doc and (a/2, b/2), for one
-/// direction or six lanes.
+/// ∇²G·δ from (δ∂G/∂M, δ∂G/∂A, δ∂G/∂B, δR) of the module doc and (a/2, b/2).
 #[inline(always)]
-fn hessian_g_of<T: Copy + Add<Output = T>>(
+fn hessian_g_of(
     [half_a, half_b]: [f64; 2],
-    g_m: [T; 3],
-    g_a: [T; 3],
-    g_b: [T; 3],
-    dr: T,
-) -> [T; DIM]
-where
-    f64: Mul<T, Output = T>,
-{
+    g_m: [Lanes; 3],
+    g_a: [Lanes; 3],
+    g_b: [Lanes; 3],
+    dr: Lanes,
+) -> [Lanes; DIM] {
     [
         g_m[0],
         g_m[1],
@@ -133,112 +118,22 @@ impl PhiFieldDerivative {
         }
     }
 
-    /// ∇²G·δ (the product rule of the module doc), as the sum of its parts linear in δω and in
-    /// (δα, δβ): a direction of the constraint surface moves one of the two only.
-    fn hessian_g(&self, delta: &[f64; DIM]) -> [f64; DIM] {
-        let [a, b] = self.fields;
-        let w3 = self.state.omega[2];
-        let (m, big_a, big_b) = (&self.m, &self.big_a, &self.big_b);
-        let (p, q, axb) = (self.p, self.q, &self.axb);
-        // (δ∂G/∂M, δ∂G/∂A, δ∂G/∂B, δR).
-        let mut g_m = [0.0; 3];
-        let mut g_a = [0.0; 3];
-        let mut g_b = [0.0; 3];
-        let mut dr = 0.0;
-        if delta[..3].iter().any(|x| *x != 0.0) {
-            let dw3 = delta[2];
-            let dm = [2.0 * delta[0], 2.0 * delta[1], dw3];
-            let (dp, dq) = (dot(&dm, big_a), dot(&dm, big_b));
-            dr = dot(&dm, axb);
-            let (bxdm, dmxa) = (cross(big_b, &dm), cross(&dm, big_a));
-            for i in 0..3 {
-                g_m[i] = dp * big_a[i] + dq * big_b[i] + dw3 * axb[i];
-                g_a[i] = dp * m[i] + p * dm[i] + dw3 * self.bxm[i] + w3 * bxdm[i];
-                g_b[i] = dq * m[i] + q * dm[i] + dw3 * self.mxa[i] + w3 * dmxa[i];
-            }
-        }
-        if delta[3..].iter().any(|x| *x != 0.0) {
-            let da = [a * delta[3], a * delta[4], a * delta[5]];
-            let db = [b * delta[6], b * delta[7], b * delta[8]];
-            let (dp, dq) = (dot(m, &da), dot(m, &db));
-            let d_axb = add3(&cross(&da, big_b), &cross(big_a, &db));
-            dr += dot(m, &d_axb);
-            let (dbxm, mxda) = (cross(&db, m), cross(m, &da));
-            for i in 0..3 {
-                g_m[i] += dp * big_a[i] + p * da[i] + dq * big_b[i] + q * db[i] + w3 * d_axb[i];
-                g_a[i] += dp * m[i] + w3 * dbxm[i];
-                g_b[i] += dq * m[i] + w3 * mxda[i];
-            }
-        }
-        hessian_g_of([0.5 * a, 0.5 * b], g_m, g_a, g_b, dr)
-    }
-
-    /// ∇²Φ·δ.
-    fn hessian_phi(&self, delta: &[f64; DIM]) -> [f64; DIM] {
-        let [a, b] = self.fields;
-        let [w1, w2, _] = self.state.omega;
-        let (d0, d1) = (delta[0], delta[1]);
-        // ∇X·δ, ∇Y·δ (∇X, ∇Y of the module doc), ∇L·δ.
-        let dx = 2.0 * (w1 * d0 - w2 * d1) + a * delta[3] - b * delta[7];
-        let dy = 2.0 * (w2 * d0 + w1 * d1) + a * delta[4] + b * delta[6];
-        let dl = dot9(&self.grad_l, delta);
-        let hg = self.hessian_g(delta);
-        // ∇²X·δ, ∇²Y·δ and ∇²H·δ vanish beyond ω.
-        let hx = [2.0 * d0, -2.0 * d1, 0.0];
-        let hy = [2.0 * d1, 2.0 * d0, 0.0];
-        let hh = [2.0 * d0, 2.0 * d1, delta[2]];
-        std::array::from_fn(|i| {
-            let mut hk = 2.0 * (dx * self.grad_x[i] + dy * self.grad_y[i]);
-            let mut hl = 2.0 * hg[i];
-            if i < 3 {
-                hk += 2.0 * (self.x * hx[i] + self.y * hy[i]);
-                hl -= self.p2 * hh[i];
-            }
-            self.r4 * hk - 2.0 * (dl * self.grad_l[i] + self.l * hl)
-        })
-    }
-
-    /// 𝔅(δ)∇Φ: [`hamiltonian_field`] with δ for the state (bilinear), the blocks of δ that
-    /// vanish skipped.
-    fn moved(&self, delta: &[f64; DIM]) -> [f64; DIM] {
-        let g = &self.grad_phi;
-        let d_m = [0.5 * g[0], 0.5 * g[1], g[2]];
-        let mut out = [0.0; DIM];
-        if delta[..3].iter().any(|x| *x != 0.0) {
-            let m = [2.0 * delta[0], 2.0 * delta[1], delta[2]];
-            let c = cross(&m, &d_m);
-            out[..3].copy_from_slice(&[0.5 * c[0], 0.5 * c[1], c[2]]);
-        }
-        if delta[3..].iter().any(|x| *x != 0.0) {
-            let da = [delta[3], delta[4], delta[5]];
-            let db = [delta[6], delta[7], delta[8]];
-            let c = add3(
-                &cross(&da, &[g[3], g[4], g[5]]),
-                &cross(&db, &[g[6], g[7], g[8]]),
-            );
-            out[0] += 0.5 * c[0];
-            out[1] += 0.5 * c[1];
-            out[2] += c[2];
-            out[3..6].copy_from_slice(&cross(&da, &d_m));
-            out[6..9].copy_from_slice(&cross(&db, &d_m));
-        }
-        out
-    }
-
-    /// DX_Φ·δ = 𝔅(δ)∇Φ + 𝔅(x)(∇²Φ·δ).
+    /// DX_Φ·δ = 𝔅(δ)∇Φ + 𝔅(x)(∇²Φ·δ): lane 0 of [`PhiFieldDerivative::along_six`] with `delta`
+    /// there and 0 in the other lanes (each lane is computed apart from the others, so it is the
+    /// number of `delta` alone; the formulas are written once, lane by lane).
     pub fn along(&self, delta: &[f64; DIM]) -> [f64; DIM] {
-        let moved = self.moved(delta);
-        let turned = hamiltonian_field(&self.state, &self.hessian_phi(delta));
-        std::array::from_fn(|k| moved[k] + turned[k])
+        let mut directions = [[0.0; DIM]; 6];
+        directions[0] = *delta;
+        self.along_six(&directions).map(|lane| lane.0[0])
     }
 }
 
 impl PhiFieldDerivative {
-    /// [`PhiFieldDerivative::along`] of six directions at once (stop 31), lane j along
-    /// `directions[j]`, as `out[k]` = component k: the same operations in the same order on
-    /// each lane, without skipping the blocks of δ that vanish (their products are exact zeros,
-    /// which leave every non-zero sum unchanged), so each lane is the same number as `along`'s
-    /// (tests/phi_field.rs). Inlined into its caller, with the caller's vector instructions.
+    /// DX_Φ·δ along six directions at once (stop 31), lane j along `directions[j]`, as
+    /// `out[k]` = component k: the same operations in the same order on each lane, the blocks of
+    /// δ that vanish not skipped (their products are exact zeros, which leave every non-zero sum
+    /// unchanged: stop 31 checked each lane bit for bit against the one-direction formulas that
+    /// skipped them). Inlined into its caller, with the caller's vector instructions.
     #[inline(always)]
     pub fn along_six(&self, directions: &[[f64; DIM]; 6]) -> [Lanes; DIM] {
         let delta: [Lanes; DIM] = std::array::from_fn(|k| Lanes(directions.map(|d| d[k])));
@@ -247,7 +142,8 @@ impl PhiFieldDerivative {
         std::array::from_fn(|k| moved[k] + turned[k])
     }
 
-    /// [`PhiFieldDerivative::hessian_g`] lane by lane.
+    /// ∇²G·δ (the product rule of the module doc) lane by lane, as the sum of its parts linear
+    /// in δω and in (δα, δβ).
     #[inline(always)]
     fn hessian_g_six(&self, delta: &[Lanes; DIM]) -> [Lanes; DIM] {
         let [a, b] = self.fields;
@@ -285,7 +181,7 @@ impl PhiFieldDerivative {
         hessian_g_of([0.5 * a, 0.5 * b], g_m, g_a, g_b, dr)
     }
 
-    /// [`PhiFieldDerivative::hessian_phi`] lane by lane.
+    /// ∇²Φ·δ lane by lane.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // k indexes ∇L and δ alike
     fn hessian_phi_six(&self, delta: &[Lanes; DIM]) -> [Lanes; DIM] {
@@ -314,7 +210,8 @@ impl PhiFieldDerivative {
         })
     }
 
-    /// [`PhiFieldDerivative::moved`] lane by lane.
+    /// 𝔅(δ)∇Φ lane by lane: [`hamiltonian_field`](super::distance::hamiltonian_field) with δ
+    /// for the state (bilinear).
     #[inline(always)]
     fn moved_six(&self, delta: &[Lanes; DIM]) -> [Lanes; DIM] {
         let g = &self.grad_phi;
@@ -342,7 +239,8 @@ impl PhiFieldDerivative {
         ]
     }
 
-    /// [`hamiltonian_field`] at the state of a gradient given lane by lane.
+    /// [`hamiltonian_field`](super::distance::hamiltonian_field) at the state of a gradient
+    /// given lane by lane.
     #[inline(always)]
     fn turn_six(&self, grad: &[Lanes; DIM]) -> [Lanes; DIM] {
         let s = &self.state;
@@ -380,7 +278,7 @@ pub fn phi_field_derivative(
     s: &State<f64>,
     directions: &[[f64; DIM]; 6],
 ) -> [[f64; 6]; DIM] {
-    let d = PhiFieldDerivative::new(fields, s);
-    let columns = directions.each_ref().map(|delta| d.along(delta));
-    std::array::from_fn(|k| std::array::from_fn(|j| columns[j][k]))
+    PhiFieldDerivative::new(fields, s)
+        .along_six(directions)
+        .map(|lane| lane.0)
 }
