@@ -8,6 +8,7 @@ use anyhow::Context;
 use clap::builder::{PossibleValue, TypedValueParser};
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::Args;
+use rsts_closed_form::{Decimal, Motion};
 use rsts_dynamics::integrators::{MethodConfig, MethodName, OutputGrid, Problem, Tolerances};
 use rsts_dynamics::{Fields, State};
 
@@ -25,6 +26,12 @@ pub fn finite_f64(s: &str) -> Result<f64, String> {
     } else {
         Err(format!("must be a finite number, got {x}"))
     }
+}
+
+/// A decimal as written ("NaN", "inf" and what overflows f64 are rejected): the number means
+/// that decimal exactly at every precision (docs/output.md, "What a number means").
+pub fn decimal(s: &str) -> Result<Decimal, String> {
+    Decimal::parse(s).map_err(|e| e.to_string())
 }
 
 /// A whole number of samples (the lower bound 1 is checked with the grid).
@@ -171,64 +178,58 @@ pub struct FieldArgs {
     pub b: f64,
 }
 
-/// The field strengths as exact decimals (`explicit`, `identify`: read at the requested digits).
+/// The field strengths as exact decimals (the motion's commands: read at the precision each
+/// computation asks).
 #[derive(Debug, Clone, Args)]
 pub struct ExactFieldArgs {
-    /// Strength a of the first field; a > b > 0 (read as an exact decimal at the requested digits)
-    #[arg(
-        long,
-        value_name = "A",
-        default_value = "1",
-        allow_hyphen_values = true
-    )]
-    pub a: String,
+    /// Strength a of the first field; a > b > 0 (an exact decimal)
+    #[arg(long, value_name = "A", default_value = "1", value_parser = decimal, allow_hyphen_values = true)]
+    pub a: Decimal,
     /// Strength b of the second field; 0 < b < a
-    #[arg(
-        long,
-        value_name = "B",
-        default_value = "0.5",
-        allow_hyphen_values = true
-    )]
-    pub b: String,
+    #[arg(long, value_name = "B", default_value = "0.5", value_parser = decimal, allow_hyphen_values = true)]
+    pub b: Decimal,
 }
 
-/// The point (m, h) of the invariant manifold N, the torus and the phases of a motion (used by
-/// `compare` and `bench`; the time grid has its own options there).
+/// The motion: fields, the point (m, h) of the invariant manifold N, the torus and the phases,
+/// each an exact decimal (the time grid has its own options).
 #[derive(Debug, Clone, Args)]
 pub struct CaseArgs {
     #[command(flatten)]
-    pub fields: FieldArgs,
+    pub fields: ExactFieldArgs,
     /// Value m of the partial integral of N
-    #[arg(long, value_name = "M", default_value = "0.3", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub m: f64,
+    #[arg(long, value_name = "M", default_value = "0.3", value_parser = decimal, allow_hyphen_values = true)]
+    pub m: Decimal,
     /// Energy h
-    #[arg(long, value_name = "H", default_value = "-0.375", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub h: f64,
+    #[arg(long, value_name = "H", default_value = "-0.375", value_parser = decimal, allow_hyphen_values = true)]
+    pub h: Decimal,
     /// Which Liouville torus (0-based)
     #[arg(long, value_name = "K", default_value_t = 0)]
     pub torus: usize,
     /// Initial angle psi1 on the torus (radians)
-    #[arg(long, value_name = "X", default_value = "0", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub phase1: f64,
+    #[arg(long, value_name = "X", default_value = "0", value_parser = decimal, allow_hyphen_values = true)]
+    pub phase1: Decimal,
     /// Initial angle psi2 on the torus (radians)
-    #[arg(long, value_name = "Y", default_value = "0", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub phase2: f64,
+    #[arg(long, value_name = "Y", default_value = "0", value_parser = decimal, allow_hyphen_values = true)]
+    pub phase2: Decimal,
 }
 
 impl CaseArgs {
-    /// The harness case on the grid of `samples` times over [0, `t_end`].
-    pub fn case(&self, t_end: f64, samples: usize) -> rsts_harness::Case {
-        rsts_harness::Case {
-            a: self.fields.a,
-            b: self.fields.b,
-            m: self.m,
-            h: self.h,
+    /// The motion, as written.
+    pub fn motion(&self) -> Motion {
+        Motion {
+            a: self.fields.a.clone(),
+            b: self.fields.b.clone(),
+            m: self.m.clone(),
+            h: self.h.clone(),
             torus: self.torus,
-            phase1: self.phase1,
-            phase2: self.phase2,
-            t_end,
-            samples,
+            phase1: self.phase1.clone(),
+            phase2: self.phase2.clone(),
         }
+    }
+
+    /// The harness case on the grid of `samples` times over [0, `t_end`].
+    pub fn case(&self, t_end: &Decimal, samples: usize) -> rsts_harness::Case {
+        rsts_harness::Case::new(self.motion(), t_end.clone(), samples)
     }
 }
 

@@ -22,10 +22,12 @@ mod fast;
 mod lanes;
 mod phase;
 pub mod symmetry;
+mod value;
 pub use fast::DdPath;
 pub use lanes::BatchPath;
 use phase::PhaseClock;
 pub use phase::F64_CLOCK_MAX_T;
+pub use value::{binary, decimal, InputError, Motion};
 
 /// Which torus and where on it the motion starts.
 ///
@@ -137,7 +139,30 @@ impl<T: Scalar> ExplicitMotion<T> {
         let bits = a.prec();
         let hi = bits.max(53) + GUARD_BITS + extra;
         let up = |x: &T| x.to_mpfr(hi);
-        let exact = ExplicitMotion::<Float>::build(up(&a), up(&b), up(&m), up(&h), choice)?;
+        let phases = [choice.phase1, choice.phase2].map(|p| Float::with_val(hi, p));
+        Self::from_exact(bits, [up(&a), up(&b), up(&m), up(&h)], phases, choice)
+    }
+
+    /// The motion from its inputs given at the high precision of the build (a, b, m, h and the
+    /// phases each rounded once from what the user wrote), rounded once to `bits`.
+    pub(crate) fn from_exact(
+        bits: u32,
+        [a, b, m, h]: [Float; 4],
+        phases: [Float; 2],
+        choice: TorusChoice,
+    ) -> Result<Self, ClosedFormError> {
+        let exact = ExplicitMotion::<Float>::build(a, b, m, h, choice.torus, phases)?;
+        Ok(Self::from_built(bits, &exact, choice))
+    }
+
+    /// The motion rounded once to `bits` from its build at a higher precision, with the phase
+    /// clock of that precision.
+    pub(crate) fn from_built(
+        bits: u32,
+        exact: &ExplicitMotion<Float>,
+        choice: TorusChoice,
+    ) -> Self {
+        let hi = exact.constants.a.prec();
         let down = |x: &Float| T::from_mpfr(x, bits);
         let vars = [&exact.first, &exact.second];
         let clock = PhaseClock::new(
@@ -154,7 +179,7 @@ impl<T: Scalar> ExplicitMotion<T> {
             r: down(&exact.formula.r),
             pmh: down(&exact.formula.pmh),
         };
-        Ok(Self {
+        Self {
             constants: exact.constants.map(&down),
             camera: exact.camera,
             tori: exact.tori,
@@ -165,7 +190,7 @@ impl<T: Scalar> ExplicitMotion<T> {
             products: ConstantProducts::new(&formula),
             formula,
             clock: Some(clock),
-        })
+        }
     }
 
     /// The parameters u₁, u₂ of the elliptic functions at time t, reduced modulo 4K with
@@ -304,9 +329,15 @@ impl<T: Real> ExplicitMotion<T> {
         b: T,
         m: T,
         h: T,
-        choice: TorusChoice,
+        torus: usize,
+        phases: [T; 2],
     ) -> Result<Self, ClosedFormError> {
-        for (name, v) in [("phase1", choice.phase1), ("phase2", choice.phase2)] {
+        let choice = TorusChoice {
+            torus,
+            phase1: phases[0].to_f64(),
+            phase2: phases[1].to_f64(),
+        };
+        for (name, v) in [("phase1", &phases[0]), ("phase2", &phases[1])] {
             if !v.is_finite() {
                 return Err(ClosedFormError::Parameters(format!(
                     "{name} is not a finite number"
@@ -373,9 +404,10 @@ impl<T: Real> ExplicitMotion<T> {
             pmh: constants.pmh.clone(),
         };
         let two_pi = T::pi(constants.a.prec()) * constants.a.lit(2.0);
+        let [phase1, phase2] = phases;
         let u0 = [
-            constants.a.lit(choice.phase1) * first.period_u() / &two_pi,
-            constants.a.lit(choice.phase2) * second.period_u() / &two_pi,
+            phase1 * first.period_u() / &two_pi,
+            phase2 * second.period_u() / &two_pi,
         ];
         Ok(Self {
             constants,

@@ -13,6 +13,7 @@ pub mod fields;
 pub mod integrals;
 pub mod integrators;
 pub mod jet;
+pub mod number;
 pub mod scalar;
 pub mod state;
 pub mod vec3;
@@ -21,6 +22,7 @@ pub use equations::VectorField;
 pub use error::DynamicsError;
 pub use fields::Fields;
 pub use integrals::{integrals, Integrals};
+pub use number::{Decimal, NumberError, Times};
 pub use scalar::Real;
 pub use state::State;
 

@@ -60,11 +60,8 @@ impl Propagator<f64> for Midpoint {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let case = Case {
-        t_end: 20.0,
-        samples: 201,
-        ..Case::default_i_plus()
-    };
+    let case =
+        Case::default_i_plus().with_grid(rsts_closed_form::Decimal::parse("20").unwrap(), 201);
     // compare: the report of `rsts compare` for the user's integrator.
     for step in [1e-2, 5e-3] {
         let mut mine = Propagated::new(Midpoint { step }).named(format!("midpoint h={step}"));

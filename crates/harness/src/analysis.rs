@@ -192,7 +192,7 @@ impl Analysis {
         let f64_data = info.digits <= 16;
         let mut analysis = Self::new(motion, fields, info);
         if f64_data {
-            analysis.dd = DdReference::new(case, case.t_end, |t| {
+            analysis.dd = DdReference::new(case, case.t_end_f64(), |t| {
                 analysis.exact_state(&Float::with_val(bits, t)).to_array()
             });
             let d = DoubleDouble::from_float;
@@ -246,13 +246,14 @@ impl Analysis {
     /// (the state at a time it was valid for does not change: the clock only gains bits).
     pub(crate) fn reach(&mut self, case: &mut Case, t_max: f64) -> Result<(), HarnessError> {
         let valid = |until: f64| until >= t_max;
-        if t_max <= case.t_end
+        if t_max <= case.t_end_f64()
             || (valid(self.motion.valid_until())
                 && self.dd.as_ref().is_none_or(|d| valid(d.valid_until())))
         {
             return Ok(());
         }
-        case.t_end = (2.0 * t_max).min(f64::MAX);
+        case.t_end = rsts_closed_form::Decimal::from_f64((2.0 * t_max).min(f64::MAX))
+            .map_err(|e| HarnessError::Case(format!("t: {e}")))?;
         let info = RunInfo {
             method: self.report.method.clone(),
             rtol: self.report.rtol,
@@ -599,12 +600,13 @@ mod tests {
     /// of 1e-9 to 1e-16, drifts, orientation.
     #[test]
     fn f64_data_measured_in_double_double_as_in_mpfr() {
-        let case = Case {
-            m: -0.7092,
-            h: 1.5643,
-            torus: 2,
-            t_end: 50.0,
-            ..Case::default_i_plus()
+        let case = {
+            let mut c = Case::default_i_plus();
+            c.motion.m = rsts_closed_form::Decimal::from_f64(-0.7092).unwrap();
+            c.motion.h = rsts_closed_form::Decimal::from_f64(1.5643).unwrap();
+            c.motion.torus = 2;
+            c.t_end = rsts_closed_form::Decimal::from_f64(50.0 as f64).unwrap();
+            c
         };
         let bits = 172;
         let dd = Analysis::for_case(&case, bits, info()).unwrap();

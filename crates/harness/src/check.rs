@@ -8,9 +8,9 @@ use rug::Float;
 use serde::Serialize;
 
 use rsts_closed_form::manifold::{identify, IdentifyError};
-use rsts_closed_form::{ExplicitMotion, TorusChoice};
+use rsts_closed_form::{Decimal, Motion};
 use rsts_dynamics::scalar::bits_for_digits;
-use rsts_dynamics::{Fields, State};
+use rsts_dynamics::{Fields, Real, State};
 
 use crate::analysis::{Analysis, Observer, RunInfo};
 use crate::case::Case;
@@ -21,16 +21,23 @@ use crate::{HarnessError, REFERENCE_GUARD_BITS};
 /// Relative distance from N above which a first sample is refused for identification.
 pub const ON_N_TOLERANCE: f64 = 1e-8;
 
-/// The motion a trajectory is checked against, when the caller knows it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GivenMotion {
-    pub m: f64,
-    pub h: f64,
-    /// Which Liouville torus (0-based).
-    pub torus: usize,
-    /// Angles ψ₁, ψ₂ on the torus at t = 0.
-    pub phase1: f64,
-    pub phase2: f64,
+/// What a trajectory is checked against.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CheckMotion {
+    /// The motion, given.
+    Given(Motion),
+    /// Identified from the first sample, on N of these fields (a, b).
+    Identify { a: Decimal, b: Decimal },
+}
+
+impl CheckMotion {
+    /// The field strengths a, b.
+    pub fn fields(&self) -> (&Decimal, &Decimal) {
+        match self {
+            CheckMotion::Given(m) => (&m.a, &m.b),
+            CheckMotion::Identify { a, b } => (a, b),
+        }
+    }
 }
 
 /// What to check a trajectory against, and how to name it.
@@ -41,10 +48,7 @@ pub struct CheckRequest {
     pub file: String,
     /// The report's `method`: the trajectory's short name (a file name).
     pub name: String,
-    pub a: f64,
-    pub b: f64,
-    /// `None`: identified from the first sample, which must lie on N.
-    pub motion: Option<GivenMotion>,
+    pub motion: CheckMotion,
     /// Decimal digits the data carry (f64 data: 15).
     pub digits: u32,
 }
@@ -53,10 +57,10 @@ impl CheckRequest {
     /// Check what can be checked before the data are read: the fields, and the motion when it
     /// is given (a point of N off Σ with the torus asked).
     pub fn validate(&self) -> Result<(), HarnessError> {
-        Fields::new(self.a, self.b)?;
-        if let Some(case) = self.given_case() {
-            case.validate()?;
-            case.reference_motion(64)?;
+        let (a, b) = self.motion.fields();
+        Fields::new(a.to_float(64), b.to_float(64))?;
+        if let CheckMotion::Given(motion) = &self.motion {
+            motion.validate()?;
         }
         Ok(())
     }
@@ -66,33 +70,14 @@ impl CheckRequest {
     pub fn reference_bits(&self) -> u32 {
         bits_for_digits(self.digits.max(30)) + REFERENCE_GUARD_BITS
     }
-
-    fn given_case(&self) -> Option<Case> {
-        self.motion.map(|g| Case {
-            a: self.a,
-            b: self.b,
-            m: g.m,
-            h: g.h,
-            torus: g.torus,
-            phase1: g.phase1,
-            phase2: g.phase2,
-            t_end: 0.0,
-            samples: 1,
-        })
-    }
 }
 
-/// The motion a trajectory was checked against.
+/// The motion a trajectory was checked against (serialised flat: a, b, m, h, torus, phase1,
+/// phase2, identified).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CheckedCase {
-    pub a: f64,
-    pub b: f64,
-    pub m: f64,
-    pub h: f64,
-    pub torus: usize,
-    /// Angles on the torus at t = 0.
-    pub phase1: f64,
-    pub phase2: f64,
+    #[serde(flatten)]
+    pub motion: Motion,
     /// True when (m, h, torus, phases) were identified from the first sample.
     pub identified: bool,
 }
@@ -120,14 +105,13 @@ pub struct CheckReport {
 /// Identify the motion from the first sample (time `t0`, at the reference precision): (m, h,
 /// torus) and the phases at t = 0, and the sample's relative distance from N.
 pub fn identify_case(
-    a: f64,
-    b: f64,
+    a: &Decimal,
+    b: &Decimal,
     t0: &Float,
     first: &State<Float>,
 ) -> Result<(CheckedCase, f64), HarnessError> {
     let bits = t0.prec();
-    let f = |x: f64| Float::with_val(bits, x);
-    let id = identify(&f(a), &f(b), first).map_err(|e| {
+    let id = identify(&a.to_float(bits), &b.to_float(bits), first).map_err(|e| {
         HarnessError::Case(match e {
             IdentifyError::Input(msg) => format!("first row: {msg}"),
             IdentifyError::NoTorus {
@@ -146,40 +130,45 @@ pub fn identify_case(
             "first row: not on N of a = {a}, b = {b}: its relative distance from N is {relative:.3e} (> {ON_N_TOLERANCE:e}); give the motion with --m, --h (and --torus, --phase1, --phase2) to check it anyway"
         )));
     }
-    // ψ(t) = ψ⁰ + ν t: the phases at t = 0 from those at the first sample's time.
-    let motion = ExplicitMotion::new(
-        f(a),
-        f(b),
-        id.m.clone(),
-        id.h.clone(),
-        TorusChoice {
-            torus: id.torus,
-            phase1: 0.0,
-            phase2: 0.0,
-        },
-    )?;
-    let nu = motion.frequencies();
+    // The identified numbers as decimals that round back to them at this precision.
+    let digits = rsts_dynamics::scalar::digits_for_bits(bits) + 3;
+    let decimal = |x: &Float| {
+        Decimal::parse(&x.to_decimal(digits)).map_err(|e| {
+            HarnessError::Case(format!("first row: an identified value is not finite: {e}"))
+        })
+    };
+    let zero = Decimal::from_integer(0);
+    let on_torus = Motion {
+        a: a.clone(),
+        b: b.clone(),
+        m: decimal(&id.m)?,
+        h: decimal(&id.h)?,
+        torus: id.torus,
+        phase1: zero.clone(),
+        phase2: zero,
+    };
+    let nu = on_torus.explicit::<Float>(bits, 0.0)?.frequencies();
     let two_pi = Float::with_val(bits, rug::float::Constant::Pi) * 2u32;
+    // ψ(t) = ψ⁰ + ν t: the phases at t = 0 from those at the first sample's time.
     let at_zero = |psi: &Float, nu: &Float| {
         let x = Float::with_val(bits, psi - nu.clone() * t0);
         let turns = Float::with_val(bits, &x / &two_pi).floor();
-        let psi = (x - turns * &two_pi).to_f64();
+        let psi = Float::with_val(bits, x - turns * &two_pi);
         // 2π − 1e-16 is 0 on the torus.
-        if psi > std::f64::consts::TAU - 1e-12 {
-            0.0
+        if Float::with_val(bits, &two_pi - &psi) < 1e-12 {
+            Float::with_val(bits, 0)
         } else {
             psi
         }
     };
+    let phases = [
+        decimal(&at_zero(&id.phases[0], &nu[0]))?,
+        decimal(&at_zero(&id.phases[1], &nu[1]))?,
+    ];
+    let motion = on_torus.on_torus(id.torus, phases);
     Ok((
         CheckedCase {
-            a,
-            b,
-            m: id.m.to_f64(),
-            h: id.h.to_f64(),
-            torus: id.torus,
-            phase1: at_zero(&id.phases[0], &nu[0]),
-            phase2: at_zero(&id.phases[1], &nu[1]),
+            motion,
             identified: true,
         },
         relative,
@@ -207,38 +196,24 @@ impl Check {
         t_extent: f64,
     ) -> Result<Self, HarnessError> {
         let bits = request.reference_bits();
-        let (case, distance) = match request.motion {
-            Some(g) => (
+        let (case, distance) = match &request.motion {
+            CheckMotion::Given(motion) => (
                 CheckedCase {
-                    a: request.a,
-                    b: request.b,
-                    m: g.m,
-                    h: g.h,
-                    torus: g.torus,
-                    phase1: g.phase1,
-                    phase2: g.phase2,
+                    motion: motion.clone(),
                     identified: false,
                 },
                 None,
             ),
-            None => {
+            CheckMotion::Identify { a, b } => {
                 let t0 = Float::with_val(bits, t0);
                 let first = first.map(|x| Float::with_val(bits, x));
-                let (case, d) = identify_case(request.a, request.b, &t0, &first)?;
+                let (case, d) = identify_case(a, b, &t0, &first)?;
                 (case, Some(d))
             }
         };
-        let harness_case = Case {
-            a: case.a,
-            b: case.b,
-            m: case.m,
-            h: case.h,
-            torus: case.torus,
-            phase1: case.phase1,
-            phase2: case.phase2,
-            t_end: t_extent,
-            samples: 1,
-        };
+        let t_extent =
+            Decimal::from_f64(t_extent).map_err(|e| HarnessError::Case(format!("times: {e}")))?;
+        let harness_case = Case::new(case.motion.clone(), t_extent, 1);
         let info = RunInfo {
             method: request.name.clone(),
             rtol: None,
@@ -319,13 +294,18 @@ mod tests {
     use super::*;
     use crate::NoObserver;
 
-    fn request(motion: Option<GivenMotion>) -> CheckRequest {
+    fn request(motion: Option<Motion>) -> CheckRequest {
+        let d = |s: &str| Decimal::parse(s).unwrap();
         CheckRequest {
             file: "<test>".into(),
             name: "test".into(),
-            a: 1.0,
-            b: 0.5,
-            motion,
+            motion: match motion {
+                Some(m) => CheckMotion::Given(m),
+                None => CheckMotion::Identify {
+                    a: d("1"),
+                    b: d("0.5"),
+                },
+            },
             digits: 15,
         }
     }
@@ -335,40 +315,41 @@ mod tests {
     /// checked against the motion given report the same case, not identified.
     #[test]
     fn exact_samples_are_identified_and_have_no_error() {
-        let case = Case {
-            phase1: 0.4,
-            phase2: 1.1,
-            ..Case::default_i_plus()
-        };
+        let d = |s: &str| Decimal::parse(s).unwrap();
+        let motion = Motion::default_i_plus().on_torus(0, [d("0.4"), d("1.1")]);
+        let case = Case::new(motion.clone(), d("100"), 1001);
         let r = request(None);
         let bits = r.reference_bits();
-        let (motion, _) = case.reference_motion(bits).unwrap();
+        let (exact, _) = case.reference_motion(bits).unwrap();
         let times: Vec<Float> = [2.0, 2.5, 7.0]
             .iter()
             .map(|&t| Float::with_val(bits, t))
             .collect();
         let states: Vec<State<Float>> = times
             .iter()
-            .map(|t| crate::metrics::exact_state(&motion.at(t)))
+            .map(|t| crate::metrics::exact_state(&exact.at(t)))
             .collect();
         let report = check(&r, &times, &states, &mut NoObserver).unwrap();
         assert!(report.case.identified);
-        assert_eq!(report.case.torus, 0);
-        assert!((report.case.m - 0.3).abs() < 1e-12, "{:?}", report.case);
-        assert!((report.case.phase1 - 0.4).abs() < 1e-9, "{:?}", report.case);
-        assert!((report.case.phase2 - 1.1).abs() < 1e-9, "{:?}", report.case);
+        let found = &report.case.motion;
+        assert_eq!(found.torus, 0);
+        assert!((found.m.to_f64() - 0.3).abs() < 1e-12, "{:?}", report.case);
+        assert!(
+            (found.phase1.to_f64() - 0.4).abs() < 1e-9,
+            "{:?}",
+            report.case
+        );
+        assert!(
+            (found.phase2.to_f64() - 1.1).abs() < 1e-9,
+            "{:?}",
+            report.case
+        );
         assert!(report.report.max_state_error < 1e-12, "{report:?}");
         assert_eq!(report.span, (2.0, 7.0));
         assert_eq!(report.report.samples_compared, 3);
         assert_eq!(report.report.method, "test");
 
-        let given = request(Some(GivenMotion {
-            m: 0.3,
-            h: -0.375,
-            torus: 0,
-            phase1: 0.4,
-            phase2: 1.1,
-        }));
+        let given = request(Some(motion));
         let report = check(&given, &times, &states, &mut NoObserver).unwrap();
         assert!(!report.case.identified);
         assert!(report.start_distance_from_n.is_none());
@@ -391,17 +372,17 @@ mod tests {
         assert!(e.to_string().starts_with("first row: not"), "{e}");
         assert!(check(&r, &[], &[], &mut NoObserver).is_err());
         assert!(check(&r, &[f(0.0), f(1.0)], &[off], &mut NoObserver).is_err());
-        let nowhere = request(Some(GivenMotion {
-            m: 0.3,
-            h: -100.0,
-            torus: 0,
-            phase1: 0.0,
-            phase2: 0.0,
+        let nowhere = request(Some(Motion {
+            h: Decimal::parse("-100").unwrap(),
+            ..Motion::default_i_plus()
         }));
         assert!(nowhere.validate().is_err());
         assert!(request(None).validate().is_ok());
         let fields = CheckRequest {
-            b: 2.0,
+            motion: CheckMotion::Identify {
+                a: Decimal::parse("1").unwrap(),
+                b: Decimal::parse("2").unwrap(),
+            },
             ..request(None)
         };
         assert!(fields.validate().is_err());

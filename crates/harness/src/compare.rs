@@ -62,7 +62,7 @@ pub fn run_info(integrator: &dyn Integrator) -> RunInfo {
 pub fn preflight(case: &Case, config: &MethodConfig) -> Result<(), HarnessError> {
     let bits = reference_bits(config);
     let (motion, fields) = case.reference_motion(bits)?;
-    let grid = OutputGrid::new(case.t_end, case.samples)?;
+    let grid = case.grid()?;
     let start = exact_state(&motion.at(&Float::with_val(bits, 0.0)));
     let problem = map_problem(
         &Problem {
@@ -100,7 +100,7 @@ pub fn compare_integrator(
     let bits = reference_bits_for(integrator.working_bits());
     let f = |x: f64| Float::with_val(bits, x);
     let mut analysis = Analysis::for_case(case, bits, run_info(integrator))?;
-    let grid = OutputGrid::new(case.t_end, case.samples)?;
+    let grid = case.grid()?;
     let start = analysis.exact_state(&f(0.0));
     let fields = analysis.fields().clone();
     integrator.check_budget(
@@ -110,7 +110,7 @@ pub fn compare_integrator(
         },
         &grid,
     )?;
-    if case.samples == 1 || case.t_end == 0.0 {
+    if case.samples == 1 || case.t_end.is_zero() {
         // No time passes: every sample is the start, rounded to the integrator's scalar.
         let problem = Problem {
             fields,

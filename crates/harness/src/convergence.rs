@@ -165,7 +165,8 @@ impl ConvergencePlan {
     /// sample spacing Δ; each step becomes Δ/⌈Δ/h⌉.
     pub fn new(case: Case, steps: &[f64]) -> Result<Self, HarnessError> {
         case.validate()?;
-        if case.t_end <= 0.0 {
+        let t_end = case.t_end_f64();
+        if t_end <= 0.0 {
             return Err(HarnessError::Case(format!(
                 "t-end must be positive for a convergence study, got {}",
                 case.t_end
@@ -178,7 +179,7 @@ impl ConvergencePlan {
                 case.samples
             )));
         }
-        let spacing = OutputGrid::new(case.t_end, case.samples)?.spacing();
+        let spacing = OutputGrid::new(t_end, case.samples)?.spacing();
         let mut used: Vec<f64> = Vec::new();
         for &h in steps {
             if !(h.is_finite() && h > 0.0) {
@@ -206,12 +207,12 @@ impl ConvergencePlan {
                 used.len()
             )));
         }
-        let per_method: f64 = used.iter().map(|h| case.t_end / h).sum();
+        let per_method: f64 = used.iter().map(|h| t_end / h).sum();
         if per_method > MAX_SWEEP_STEPS {
             return Err(HarnessError::Case(format!(
                 "t-end {} takes about {} steps per method at these steps, more than the \
                  limit of {}; use larger steps or a shorter t-end",
-                rsts_dynamics::short(case.t_end),
+                rsts_dynamics::short(t_end),
                 rsts_dynamics::short(per_method),
                 rsts_dynamics::short(MAX_SWEEP_STEPS)
             )));

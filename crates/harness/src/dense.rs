@@ -7,8 +7,8 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use rsts_dynamics::integrators::dense::StepSamples;
-use rsts_dynamics::integrators::{MethodConfig, OutputGrid, Problem};
-use rsts_dynamics::{Fields, State};
+use rsts_dynamics::integrators::{MethodConfig, Problem};
+use rsts_dynamics::State;
 
 use crate::case::Case;
 use crate::reference::ReferenceTable;
@@ -54,10 +54,10 @@ pub fn dense_of_method(
         .row_f64(0.0)
         .map_err(HarnessError::Case)?;
     let problem = Problem {
-        fields: Fields::new(case.a, case.b)?,
+        fields: case.motion.fields(53)?,
         initial: State::from_slice(&start[1..10]),
     };
-    let grid = OutputGrid::new(case.t_end, case.samples)?;
+    let grid = case.grid()?;
     let samples = config.propagate_steps(&problem, &grid, k)?;
     dense_of_samples(case, k, &samples)
 }
@@ -110,11 +110,8 @@ mod tests {
     /// runs report K + 1 samples per step.
     #[test]
     fn the_builtins_interpolate_at_the_order_of_their_steps() {
-        let case = Case {
-            t_end: 5.0,
-            samples: 11,
-            ..Case::default_i_plus()
-        };
+        let case =
+            Case::default_i_plus().with_grid(rsts_closed_form::Decimal::parse("5").unwrap(), 11);
         for (method, tol) in [
             (MethodName::Rk4, 1e-10),
             (MethodName::Dopri5, 1e-9),
@@ -157,11 +154,8 @@ mod tests {
     /// would report — is off by many orders of magnitude.
     #[test]
     fn taylor_methods_interpolate_with_their_own_polynomial() {
-        let case = Case {
-            t_end: 10.0,
-            samples: 11,
-            ..Case::default_i_plus()
-        };
+        let case =
+            Case::default_i_plus().with_grid(rsts_closed_form::Decimal::parse("10").unwrap(), 11);
         let k = 4;
         for (method, tol) in [
             (MethodName::TaylorF64, 1e-10),
@@ -180,13 +174,13 @@ mod tests {
                 "{method} at {tol:e}: dense error far above the step ends: {r:?}"
             );
         }
-        let grid = OutputGrid::new(case.t_end, case.samples).unwrap();
+        let grid = case.grid().unwrap();
         let start = ReferenceTable::new(&case, &[0.0], None)
             .unwrap()
             .row_f64(0.0)
             .unwrap();
         let problem = Problem {
-            fields: Fields::new(case.a, case.b).unwrap(),
+            fields: case.motion.fields(53).unwrap(),
             initial: State::from_slice(&start[1..10]),
         };
         let samples = config(MethodName::TaylorF64, 1e-10)

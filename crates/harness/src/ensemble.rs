@@ -75,14 +75,16 @@ impl Ensemble {
     /// The case of motion `k`: `base` (a, b, T, samples) at the motion's point, torus and phases.
     pub fn case(&self, base: &Case, k: usize) -> Case {
         let mo = &self.motions[k];
-        Case {
-            m: mo.m,
-            h: mo.h,
-            torus: mo.torus,
-            phase1: mo.phase1,
-            phase2: mo.phase2,
-            ..base.clone()
-        }
+        let exact =
+            |x: f64| rsts_closed_form::Decimal::from_f64(x).expect("a drawn motion is finite");
+        let motion = rsts_closed_form::Motion {
+            m: exact(mo.m),
+            h: exact(mo.h),
+            ..base
+                .motion
+                .on_torus(mo.torus, [exact(mo.phase1), exact(mo.phase2)])
+        };
+        Case::new(motion, base.t_end.clone(), base.samples)
     }
 }
 

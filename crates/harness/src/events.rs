@@ -57,17 +57,13 @@ pub fn events_of_run(
 ) -> Result<EventMatchReport, HarnessError> {
     let detected = match answered {
         Some(list) => detected_from_answer(list).map_err(HarnessError::Integrator)?,
-        None => locate_by_interpolation(case.a, case.b, times, states, specs),
+        None => {
+            let [a, b, _, _] = case.motion.parameters_f64();
+            locate_by_interpolation(a, b, times, states, specs)
+        }
     };
     let t_last = times.last().copied().unwrap_or(0.0);
-    let exact = exact_event_times(
-        (case.a, case.b, case.m, case.h),
-        case.torus,
-        (case.phase1, case.phase2),
-        specs,
-        0.0,
-        t_last,
-    )?;
+    let exact = exact_event_times(&case.motion, specs, 0.0, t_last)?;
     Ok(match_events(&exact, &detected))
 }
 
@@ -245,11 +241,8 @@ pub fn match_events(exact: &[DetectedEvent], detected: &[DetectedEvent]) -> Even
 
 /// The exact events of `specs` along a motion in (t_start, t_end], as f64 times (correctly
 /// rounded).
-#[allow(clippy::too_many_arguments)]
 pub fn exact_event_times(
-    (a, b, m, h): (f64, f64, f64, f64),
-    torus: usize,
-    (phase1, phase2): (f64, f64),
+    motion: &rsts_closed_form::Motion,
     specs: &[EventSpec],
     t_start: f64,
     t_end: f64,
@@ -258,13 +251,7 @@ pub fn exact_event_times(
         return Ok(Vec::new());
     }
     let case = EventCase {
-        a,
-        b,
-        m,
-        h,
-        torus,
-        phase1,
-        phase2,
+        motion: motion.clone(),
         t_start,
         t_end,
         digits: None,

@@ -239,7 +239,7 @@ impl Integrator for MethodConfig {
 ///
 /// // Any Propagator<f64> plugs in; here the built-in RK4 with step 0.01 under its own name.
 /// let mut mine = Propagated::new(Rk4::new(0.01)).named("my-rk4");
-/// let case = Case { t_end: 5.0, samples: 11, ..Case::default_i_plus() };
+/// let case = Case::default_i_plus().with_grid(rsts_closed_form::Decimal::parse("5").unwrap(), 11);
 /// let report = compare_integrator(&case, &mut mine, &CompareOptions::default(), &mut NoObserver).unwrap();
 /// assert_eq!(report.method, "my-rk4");
 /// assert!(report.max_state_error < 1e-6);

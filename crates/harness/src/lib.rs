@@ -48,7 +48,7 @@ pub use bench::{
     BenchRow, Reference,
 };
 pub use case::Case;
-pub use check::{check, Check, CheckReport, CheckRequest, CheckedCase, GivenMotion};
+pub use check::{check, Check, CheckMotion, CheckReport, CheckRequest, CheckedCase};
 pub use check_stream::CheckStream;
 pub use compare::{
     check_finite_report, compare, compare_integrator, preflight, reference_bits,

@@ -91,11 +91,9 @@ impl ReferenceTable {
     pub fn new(case: &Case, times: &[f64], digits: Option<u32>) -> Result<Self, HarnessError> {
         let bits = bits_for_digits(digits.unwrap_or(30)) + REFERENCE_GUARD_BITS;
         let t_max = times.iter().fold(0.0, |m: f64, t| m.max(t.abs()));
-        let case = Case {
-            t_end: t_max,
-            samples: 1,
-            ..case.clone()
-        };
+        let reach = rsts_closed_form::Decimal::from_f64(t_max)
+            .map_err(|e| HarnessError::Case(format!("times: {e}")))?;
+        let case = case.with_grid(reach, 1);
         case.validate()?;
         let info = RunInfo {
             method: "reference".into(),

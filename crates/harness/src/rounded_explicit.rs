@@ -7,7 +7,7 @@
 use rug::Float;
 
 use rsts_closed_form::rounded::{calibration_times, RoundingBounds};
-use rsts_closed_form::{ExplicitMotion, ExplicitState, TorusChoice};
+use rsts_closed_form::{ExplicitMotion, ExplicitState};
 use rsts_dynamics::scalar::{bits_for_digits, DoubleDouble};
 use rsts_dynamics::Real;
 
@@ -35,20 +35,12 @@ impl RoundedExplicit {
     /// The motion of `case` (a, b, m, h, torus, phases) with its phase clocks built for |t| ≤
     /// `t_max`.
     pub fn new(case: &Case, t_max: f64) -> Result<Self, HarnessError> {
-        let (mp, _) = Case {
-            t_end: t_max,
-            ..case.clone()
-        }
-        .reference_motion(bits_for_digits(30) + REFERENCE_GUARD_BITS)?;
-        let d = DoubleDouble::from_f64_exact;
-        let choice = TorusChoice {
-            torus: case.torus,
-            phase1: case.phase1,
-            phase2: case.phase2,
-        };
-        let dd =
-            ExplicitMotion::new_until(d(case.a), d(case.b), d(case.m), d(case.h), choice, t_max)
-                .ok();
+        case.validate()?;
+        let mp = case
+            .motion
+            .explicit::<Float>(bits_for_digits(30) + REFERENCE_GUARD_BITS, t_max)?;
+        let dd_bits = DoubleDouble::from_f64_exact(0.0).prec();
+        let dd = case.motion.explicit::<DoubleDouble>(dd_bits, t_max).ok();
         let mut me = Self {
             dd,
             mp,

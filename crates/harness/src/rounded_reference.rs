@@ -7,7 +7,7 @@
 use rug::Float;
 
 use rsts_closed_form::rounded::{calibration_times, RoundingBounds};
-use rsts_closed_form::{BatchPath, BodyState, DdPath, ExplicitMotion, TorusChoice};
+use rsts_closed_form::{BatchPath, BodyState, DdPath, ExplicitMotion};
 use rsts_dynamics::scalar::DoubleDouble;
 use rsts_dynamics::{Real, State};
 
@@ -21,21 +21,22 @@ pub const VALUES: usize = 9;
 /// so K = 0 when m = 0, and a value halfway between two f64 goes to the even one, where a
 /// state's H, K, G rounded from MPFR carry the noise of its last bits.
 pub fn integrals_on_n(case: &Case) -> [f64; 3] {
-    let [_, k, g] = integrals_on_n_exact(case);
-    [case.h, k.to_f64(), g.to_f64()]
+    integrals_on_n_exact(case).map(|x| x.to_f64())
 }
 
-/// H, K, G on N exactly, from the f64 inputs (1024 bits hold every product of them).
+/// H, K, G on N from the decimals at 1024 bits (exact for inputs that are f64 values: 1024 bits
+/// hold every product of them; within 2⁻¹⁰⁰⁰ relative for other decimals).
 pub fn integrals_on_n_exact(case: &Case) -> [Float; 3] {
-    let f = |x: f64| Float::with_val(1024, x);
-    let (a2, b2) = (f(case.a).square(), f(case.b).square());
+    let motion = &case.motion;
+    let f = |x: &rsts_closed_form::Decimal| x.to_float(1024);
+    let (a2, b2) = (f(&motion.a).square(), f(&motion.b).square());
     let r2 = Float::with_val(1024, &a2 - &b2);
     let p2 = a2 + b2;
     let r4 = r2.square();
-    let r4m = r4 * f(case.m);
-    let k = Float::with_val(1024, &r4m * f(case.m));
-    let g = (p2 * f(case.h) + r4m) / 2u32;
-    [f(case.h), k, g]
+    let r4m = r4 * f(&motion.m);
+    let k = Float::with_val(1024, &r4m * f(&motion.m));
+    let g = (p2 * f(&motion.h) + r4m) / 2u32;
+    [f(&motion.h), k, g]
 }
 
 /// The closed form of a case in double-double with the calibrated bounds of its state.
@@ -50,15 +51,8 @@ impl DdReference {
     /// bounds calibrated against `mpfr` (the state at the reference precision). `None`
     /// when the motion cannot be built in double-double (the caller stays with MPFR).
     pub fn new(case: &Case, t_max: f64, mpfr: impl Fn(f64) -> [Float; VALUES]) -> Option<Self> {
-        let d = DoubleDouble::from_f64_exact;
-        let choice = TorusChoice {
-            torus: case.torus,
-            phase1: case.phase1,
-            phase2: case.phase2,
-        };
-        let motion =
-            ExplicitMotion::new_until(d(case.a), d(case.b), d(case.m), d(case.h), choice, t_max)
-                .ok()?;
+        let bits = DoubleDouble::from_f64_exact(0.0).prec();
+        let motion = case.motion.explicit::<DoubleDouble>(bits, t_max).ok()?;
         let times = calibration_times(motion.periods().map(|p| p.to_f64()));
         let mut me = Self {
             motion,

@@ -63,12 +63,13 @@ fn f64_path_reports_the_mpfr_paths_digits() {
     for (case, size) in [
         (Case::default_i_plus(), 1e-10),
         (
-            Case {
-                m: -0.7092,
-                h: 1.5643,
-                torus: 2,
-                t_end: 40.0,
-                ..Case::default_i_plus()
+            {
+                let mut c = Case::default_i_plus();
+                c.motion.m = rsts_closed_form::Decimal::from_f64(-0.7092).unwrap();
+                c.motion.h = rsts_closed_form::Decimal::from_f64(1.5643).unwrap();
+                c.motion.torus = 2;
+                c.t_end = rsts_closed_form::Decimal::from_f64(40.0 as f64).unwrap();
+                c
             },
             1e-12,
         ),
@@ -81,7 +82,7 @@ fn f64_path_reports_the_mpfr_paths_digits() {
         assert_same_but_the_geometrys_last_digits(
             &parse(&f64_path),
             &parse(&mpfr_path),
-            &format!("m = {}", case.m),
+            &format!("m = {}", case.motion.m.to_f64()),
         );
         // The comparison sees a change of one value of the last sample by one unit in the
         // last place.
@@ -89,9 +90,10 @@ fn f64_path_reports_the_mpfr_paths_digits() {
         moved[399][4] = moved[399][4].next_up();
         let other = report(&case, bits, &times, &moved, true);
         assert_ne!(
-            other, mpfr_path,
+            other,
+            mpfr_path,
             "m = {}: one ulp at one sample unseen",
-            case.m
+            case.motion.m.to_f64()
         );
         assert!(f64_path.contains("\"distance_from_N\""), "{f64_path}");
     }

@@ -14,20 +14,29 @@ use rsts_harness::Case;
 
 /// The reference of a case in double-double, calibrated against MPFR at 164 bits.
 fn reference(m: f64, h: f64) -> DdReference {
-    let case = Case {
-        m,
-        h,
-        phase1: 0.7,
-        phase2: 2.1,
-        ..Case::default_i_plus()
+    let case = {
+        let mut c = Case::default_i_plus();
+        c.motion.m = rsts_closed_form::Decimal::from_f64(m).unwrap();
+        c.motion.h = rsts_closed_form::Decimal::from_f64(h).unwrap();
+        c.motion.phase1 = rsts_closed_form::Decimal::from_f64(0.7).unwrap();
+        c.motion.phase2 = rsts_closed_form::Decimal::from_f64(2.1).unwrap();
+        c
     };
     let f = |x: f64| Float::with_val(164, x);
     let choice = TorusChoice {
         torus: 0,
-        phase1: case.phase1,
-        phase2: case.phase2,
+        phase1: case.motion.phase1.to_f64(),
+        phase2: case.motion.phase2.to_f64(),
     };
-    let mp = ExplicitMotion::new_until(f(case.a), f(case.b), f(m), f(h), choice, 1e9).unwrap();
+    let mp = ExplicitMotion::new_until(
+        f(case.motion.a.to_f64()),
+        f(case.motion.b.to_f64()),
+        f(m),
+        f(h),
+        choice,
+        1e9,
+    )
+    .unwrap();
     DdReference::new(&case, 1e9, |t| {
         let s = mp.at(&f(t));
         let v = [&s.omega, &s.alpha, &s.beta];

@@ -24,17 +24,18 @@ impl Observer for Drifts {
 }
 
 fn case(t_end: f64, samples: usize) -> Case {
-    Case {
-        t_end,
-        samples,
-        ..Case::default_i_plus()
+    {
+        let mut c = Case::default_i_plus();
+        c.t_end = rsts_closed_form::Decimal::from_f64(t_end as f64).unwrap();
+        c.samples = samples;
+        c
     }
 }
 
 /// The implicit midpoint rule y₁ = y₀ + h f((y₀ + y₁)/2), solved by fixed-point iteration to
 /// round-off, `per_sample` steps of `h` between samples.
 fn implicit_midpoint(c: &Case, h: f64, per_sample: usize) -> (Vec<f64>, Vec<State<f64>>) {
-    let field = VectorField::new(&Fields::new(c.a, c.b).unwrap());
+    let field = VectorField::new(&Fields::new(c.motion.a.to_f64(), c.motion.b.to_f64()).unwrap());
     let (motion, _) = c.reference_motion(200).unwrap();
     let start = motion.at(&Float::with_val(200, 0));
     let mut y: [f64; 9] =

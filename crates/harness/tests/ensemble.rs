@@ -87,11 +87,7 @@ fn percentiles_at_exact_ranks_are_order_statistics() {
 /// tolerance (type-7 percentiles of three values, worked by hand).
 #[test]
 fn each_motion_is_measured_as_a_comparison_in_one_piece() {
-    let base = Case {
-        t_end: 3.0,
-        samples: 7,
-        ..Case::default_i_plus()
-    };
+    let base = Case::default_i_plus().with_grid(rsts_closed_form::Decimal::parse("3").unwrap(), 7);
     let plan = EnsemblePlan {
         n: 3,
         seed: 11,

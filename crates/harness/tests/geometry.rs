@@ -12,17 +12,7 @@ use rsts_harness::{analyse, compare, Analysis, Case, NoObserver, Observer, RunIn
 use rug::Float;
 
 fn case(m: f64, h: f64, t_end: f64, samples: usize) -> Case {
-    Case {
-        a: 1.0,
-        b: 0.5,
-        m,
-        h,
-        torus: 0,
-        phase1: 0.4,
-        phase2: 1.3,
-        t_end,
-        samples,
-    }
+    Case::binary([1.0, 0.5, m, h], 0, [0.4, 1.3], t_end, samples).unwrap()
 }
 
 fn config(method: MethodName, tol: f64) -> MethodConfig {
@@ -42,7 +32,7 @@ const BITS: u32 = 200;
 
 fn times(c: &Case) -> Vec<Float> {
     (0..c.samples)
-        .map(|k| Float::with_val(BITS, c.t_end * k as f64 / (c.samples - 1) as f64))
+        .map(|k| Float::with_val(BITS, c.t_end_f64() * k as f64 / (c.samples - 1) as f64))
         .collect()
 }
 

@@ -12,16 +12,8 @@ use rsts_harness::Case;
 
 #[test]
 fn explicit_f64_rows_are_the_mpfr_rows_rounded() {
-    let case = |m: f64, h: f64, torus: usize| Case {
-        a: 1.0,
-        b: 0.5,
-        m,
-        h,
-        torus,
-        phase1: 0.4,
-        phase2: 1.9,
-        t_end: 1.0,
-        samples: 1,
+    let case = |m: f64, h: f64, torus: usize| {
+        Case::binary([1.0, 0.5, m, h], torus, [0.4, 1.9], 1.0, 1).unwrap()
     };
     let mut rng = ChaCha8Rng::seed_from_u64(21);
     let mut f64_differs = 0;
@@ -33,14 +25,14 @@ fn explicit_f64_rows_are_the_mpfr_rows_rounded() {
         let t_max = 1e6;
         let rounded = RoundedExplicit::new(&c, t_max).unwrap();
         let plain = ExplicitMotion::new_until(
-            c.a,
-            c.b,
-            c.m,
-            c.h,
+            c.motion.a.to_f64(),
+            c.motion.b.to_f64(),
+            c.motion.m.to_f64(),
+            c.motion.h.to_f64(),
             TorusChoice {
-                torus: c.torus,
-                phase1: c.phase1,
-                phase2: c.phase2,
+                torus: c.motion.torus,
+                phase1: c.motion.phase1.to_f64(),
+                phase2: c.motion.phase2.to_f64(),
             },
             t_max,
         )

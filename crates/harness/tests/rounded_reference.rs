@@ -17,16 +17,8 @@ use rsts_harness::reference::ReferenceTable;
 use rsts_harness::Case;
 
 fn cases() -> Vec<(String, Case)> {
-    let case = |a: f64, b: f64, m: f64, h: f64, torus: usize| Case {
-        a,
-        b,
-        m,
-        h,
-        torus,
-        phase1: 0.7,
-        phase2: 2.1,
-        t_end: 1.0,
-        samples: 1,
+    let case = |a: f64, b: f64, m: f64, h: f64, torus: usize| {
+        Case::binary([a, b, m, h], torus, [0.7, 2.1], 1.0, 1).unwrap()
     };
     let mut out: Vec<(String, Case)> = EXAMPLE_POINTS_A1_B05
         .iter()
@@ -80,11 +72,18 @@ fn double_double_rows_are_the_mpfr_rows_rounded_bit_for_bit() {
         assert!(table.has_dd(), "{what}: no double-double motion");
         // The f64 closed form, for the teeth of the test.
         let choice = TorusChoice {
-            torus: case.torus,
-            phase1: case.phase1,
-            phase2: case.phase2,
+            torus: case.motion.torus,
+            phase1: case.motion.phase1.to_f64(),
+            phase2: case.motion.phase2.to_f64(),
         };
-        let f64_motion = ExplicitMotion::new(case.a, case.b, case.m, case.h, choice).unwrap();
+        let f64_motion = ExplicitMotion::new(
+            case.motion.a.to_f64(),
+            case.motion.b.to_f64(),
+            case.motion.m.to_f64(),
+            case.motion.h.to_f64(),
+            choice,
+        )
+        .unwrap();
         let (misses, falls): (Vec<usize>, Vec<usize>) = times
             .par_iter()
             .map(|&t| {

@@ -8,17 +8,7 @@ use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances};
 use rsts_harness::{compare, Case, NoObserver, Report};
 
 fn run(m: f64, h: f64, torus: usize, phase1: f64, method: MethodName, tol: f64) -> Report {
-    let case = Case {
-        a: 1.0,
-        b: 0.5,
-        m,
-        h,
-        torus,
-        phase1,
-        phase2: 2.1,
-        t_end: 20.0,
-        samples: 41,
-    };
+    let case = Case::binary([1.0, 0.5, m, h], torus, [phase1, 2.1], 20.0, 41).unwrap();
     let config = MethodConfig::new(method, Tolerances::new(tol, tol).unwrap(), None).unwrap();
     let mut r = compare(&case, &config, &mut NoObserver).unwrap();
     // The only figure that is not the motion's: the clock.

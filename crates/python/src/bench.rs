@@ -145,7 +145,7 @@ pub fn bench<'py>(
             .map(|c| BenchMethod::Outside(c as &mut (dyn OutsideMethod + Send))),
     );
     let request = BenchRequest {
-        case: case.on_grid(t_end, samples),
+        case: case.on_grid(crate::case::time("t_end", t_end)?, samples),
         methods,
         tolerances,
         repeats,

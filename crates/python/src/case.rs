@@ -1,9 +1,10 @@
 //! `rsts.Case`: a motion on N (a, b, m, h, torus, phases), checked as the CLI checks it, and its
 //! exact reference at any times (`rsts reference`).
 
-use pyo3::exceptions::PyRuntimeError;
+use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
-use pyo3::types::PyList;
+use pyo3::types::{PyBool, PyInt, PyList, PyString};
+use rsts_closed_form::{Decimal, Motion};
 
 use rsts_harness::reference::{check_digits, check_times, ReferenceTable};
 
@@ -13,34 +14,17 @@ use crate::{harness_error, value_error, Interrupts};
 /// A motion on the invariant manifold N: fields a > b > 0, the point (m, h) of N off Σ, the
 /// Liouville torus (0-based) and the angles (psi1, psi2) on it at t = 0.
 ///
+/// Numbers: a `str` is the decimal it holds, exactly (`Case("1.3", "0.7", "-0.52", "2.07")` is
+/// the motion `rsts compare --a 1.3 …` means); a float is its exact binary value (`0.3` is
+/// 0.299999999999999988897769753748434595763683319091796875); an int is that integer.
 /// Checked as `rsts compare` checks its options: bad values raise ValueError with the CLI's
 /// message, naming the arguments (`m/h: (m, h) lies on the bifurcation diagram Σ ...`).
-/// Attributes: a, b, m, h, torus, phase1, phase2, camera (the paper's camera of (m, h), e.g.
-/// "I+").
+/// Attributes: a, b, m, h, torus, phase1, phase2 (floats: the nearest f64), camera (the
+/// paper's camera of (m, h), e.g. "I+"), decimals (the exact numbers as strings).
 #[pyclass(module = "rsts", frozen, eq, from_py_object)]
 #[derive(Clone, PartialEq)]
 pub struct Case {
-    /// Strength a of the first field.
-    #[pyo3(get)]
-    a: f64,
-    /// Strength b of the second field.
-    #[pyo3(get)]
-    b: f64,
-    /// Value m of the partial integral of N.
-    #[pyo3(get)]
-    m: f64,
-    /// Energy h.
-    #[pyo3(get)]
-    h: f64,
-    /// The Liouville torus (0-based).
-    #[pyo3(get)]
-    torus: usize,
-    /// Angle psi1 on the torus at t = 0 (radians).
-    #[pyo3(get)]
-    phase1: f64,
-    /// Angle psi2 on the torus at t = 0 (radians).
-    #[pyo3(get)]
-    phase2: f64,
+    pub(crate) motion: Motion,
     /// The camera of (m, h): I+, I-, II+, ..., VI.
     #[pyo3(get)]
     camera: String,
@@ -51,92 +35,151 @@ pub(crate) fn whole(name: &str, x: i64) -> PyResult<usize> {
     usize::try_from(x).map_err(|_| value_error(&[name], format!("must be >= 0, got {x}")))
 }
 
+/// A number argument: a `str` is the decimal it holds, a float its exact binary value, an int
+/// that integer; anything else is a TypeError naming the argument.
+pub(crate) fn number(name: &'static str, x: &Bound<'_, PyAny>) -> PyResult<Decimal> {
+    let parsed = if let Ok(s) = x.cast::<PyString>() {
+        Decimal::parse(&s.to_cow()?)
+    } else if x.is_instance_of::<PyBool>() {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected a number (float, int or decimal str), got bool"
+        )));
+    } else if let Ok(i) = x.cast::<PyInt>() {
+        Decimal::parse(&i.str()?.to_cow()?)
+    } else if let Ok(f) = x.extract::<f64>() {
+        Decimal::from_f64(f)
+    } else {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected a number (float, int or decimal str), got {}",
+            x.get_type().name()?
+        )));
+    };
+    parsed.map_err(|e| value_error(&[name], e))
+}
+
+/// A float time (`t_end`): its exact binary value, or ValueError naming it.
+pub(crate) fn time(name: &'static str, t: f64) -> PyResult<Decimal> {
+    Decimal::from_f64(t).map_err(|e| value_error(&[name], e))
+}
+
 impl Case {
     /// The case given, else the README's (`Case.default()`).
     pub(crate) fn or_default(case: Option<Case>) -> PyResult<Self> {
         match case {
             Some(c) => Ok(c),
-            None => Self::checked(rsts_harness::Case::default_i_plus()),
+            None => Self::checked(Motion::default_i_plus()),
         }
     }
 
-    /// Check a harness case (its a, b, m, h, torus, phases; the grid is the caller's).
-    pub(crate) fn checked(case: rsts_harness::Case) -> PyResult<Self> {
-        let case = rsts_harness::Case {
-            t_end: 0.0,
-            samples: 1,
-            ..case
-        };
-        case.validate().map_err(harness_error)?;
-        let (motion, _) = case.reference_motion(64).map_err(harness_error)?;
-        let rsts_harness::Case {
-            a,
-            b,
-            m,
-            h,
-            torus,
-            phase1,
-            phase2,
-            ..
-        } = case;
+    /// Check a motion (its a, b, m, h, torus, phases).
+    pub(crate) fn checked(motion: Motion) -> PyResult<Self> {
+        let probe = rsts_harness::Case::new(motion.clone(), Decimal::from_integer(0), 1);
+        probe.validate().map_err(harness_error)?;
+        let (explicit, _) = probe.reference_motion(64).map_err(harness_error)?;
         Ok(Self {
-            a,
-            b,
-            m,
-            h,
-            torus,
-            phase1,
-            phase2,
-            camera: motion.camera.label().to_string(),
+            camera: explicit.camera.label().to_string(),
+            motion,
         })
     }
 
     /// The harness case on `samples` times evenly spaced on [0, t_end].
-    pub(crate) fn on_grid(&self, t_end: f64, samples: usize) -> rsts_harness::Case {
-        rsts_harness::Case {
-            a: self.a,
-            b: self.b,
-            m: self.m,
-            h: self.h,
-            torus: self.torus,
-            phase1: self.phase1,
-            phase2: self.phase2,
-            t_end,
-            samples,
-        }
+    pub(crate) fn on_grid(&self, t_end: Decimal, samples: usize) -> rsts_harness::Case {
+        rsts_harness::Case::new(self.motion.clone(), t_end, samples)
     }
 }
 
 #[pymethods]
 impl Case {
     #[new]
-    #[pyo3(signature = (a, b, m, h, torus = 0, phase1 = 0.0, phase2 = 0.0))]
-    fn new(a: f64, b: f64, m: f64, h: f64, torus: i64, phase1: f64, phase2: f64) -> PyResult<Self> {
-        Self::checked(rsts_harness::Case {
-            a,
-            b,
-            m,
-            h,
+    #[pyo3(signature = (a, b, m, h, torus = 0, phase1 = None, phase2 = None))]
+    fn new(
+        a: &Bound<'_, PyAny>,
+        b: &Bound<'_, PyAny>,
+        m: &Bound<'_, PyAny>,
+        h: &Bound<'_, PyAny>,
+        torus: i64,
+        phase1: Option<&Bound<'_, PyAny>>,
+        phase2: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let phase = |name, x: Option<&Bound<'_, PyAny>>| match x {
+            Some(x) => number(name, x),
+            None => Ok(Decimal::from_integer(0)),
+        };
+        Self::checked(Motion {
+            a: number("a", a)?,
+            b: number("b", b)?,
+            m: number("m", m)?,
+            h: number("h", h)?,
             torus: whole("torus", torus)?,
-            phase1,
-            phase2,
-            t_end: 0.0,
-            samples: 1,
+            phase1: phase("phase1", phase1)?,
+            phase2: phase("phase2", phase2)?,
         })
     }
 
-    /// The README's case: camera I+, a = 1, b = 0.5, m = 0.3, h = -0.375, torus 0, phases 0
-    /// (the defaults of `rsts compare` and `rsts reference`).
+    /// The built-in default case: camera I+, a = 1, b = 0.5, m = 0.3, h = -0.375 (decimals).
     #[staticmethod]
     fn default() -> PyResult<Self> {
-        Self::checked(rsts_harness::Case::default_i_plus())
+        Self::checked(Motion::default_i_plus())
+    }
+
+    /// Strength a of the first field (the nearest float).
+    #[getter]
+    fn a(&self) -> f64 {
+        self.motion.a.to_f64()
+    }
+    /// Strength b of the second field (the nearest float).
+    #[getter]
+    fn b(&self) -> f64 {
+        self.motion.b.to_f64()
+    }
+    /// Value m of the partial integral of N (the nearest float).
+    #[getter]
+    fn m(&self) -> f64 {
+        self.motion.m.to_f64()
+    }
+    /// Energy h (the nearest float).
+    #[getter]
+    fn h(&self) -> f64 {
+        self.motion.h.to_f64()
+    }
+    /// The Liouville torus (0-based).
+    #[getter]
+    fn torus(&self) -> usize {
+        self.motion.torus
+    }
+    /// Angle psi1 on the torus at t = 0 (radians; the nearest float).
+    #[getter]
+    fn phase1(&self) -> f64 {
+        self.motion.phase1.to_f64()
+    }
+    /// Angle psi2 on the torus at t = 0 (radians; the nearest float).
+    #[getter]
+    fn phase2(&self) -> f64 {
+        self.motion.phase2.to_f64()
+    }
+    /// The exact numbers as decimal strings: {"a": ..., "b": ..., "m": ..., "h": ...,
+    /// "phase1": ..., "phase2": ...}.
+    #[getter]
+    fn decimals(&self) -> std::collections::BTreeMap<&'static str, String> {
+        let m = &self.motion;
+        [
+            ("a", &m.a),
+            ("b", &m.b),
+            ("m", &m.m),
+            ("h", &m.h),
+            ("phase1", &m.phase1),
+            ("phase2", &m.phase2),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k, v.as_str().to_string()))
+        .collect()
     }
 
     fn __repr__(&self) -> String {
-        let c = self;
+        let m = &self.motion;
         format!(
-            "Case(a={:?}, b={:?}, m={:?}, h={:?}, torus={}, phase1={:?}, phase2={:?})",
-            c.a, c.b, c.m, c.h, c.torus, c.phase1, c.phase2
+            "Case(a='{}', b='{}', m='{}', h='{}', torus={}, phase1='{}', phase2='{}')",
+            m.a, m.b, m.m, m.h, m.torus, m.phase1, m.phase2
         )
     }
 
@@ -159,7 +202,7 @@ impl Case {
         let times = arrays::vector(times, "times")?;
         check_times(&times).map_err(|e| value_error(&["times"], e))?;
         let digits = check_digits(digits).map_err(|e| value_error(&["digits"], e))?;
-        let case = self.on_grid(0.0, 1);
+        let case = self.on_grid(Decimal::from_integer(0), 1);
         let rows = py.detach(move || -> Result<Rows, RowsError> {
             let table = ReferenceTable::new(&case, &times, digits).map_err(RowsError::Case)?;
             let mut interrupts = Interrupts::new();

@@ -4,9 +4,10 @@
 use pyo3::prelude::*;
 use rug::Float;
 
+use rsts_closed_form::Motion;
 use rsts_dynamics::State;
 use rsts_harness::reference::check_times;
-use rsts_harness::{check_finite_report, CheckRequest, GivenMotion, HarnessError};
+use rsts_harness::{check_finite_report, CheckMotion, CheckRequest, HarnessError};
 
 use crate::case::whole;
 use crate::compare::{finish, Watch};
@@ -41,15 +42,23 @@ pub fn check<'py>(
     digits: Option<i64>,
     name: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let exact = |name, x: f64| {
+        rsts_closed_form::motion::binary(name, x).map_err(|e| value_error(&[name], e.error))
+    };
+    let (a, b) = (exact("a", a)?, exact("b", b)?);
     let motion = match (m, h) {
-        (Some(m), Some(h)) => Some(GivenMotion {
-            m,
-            h,
+        (Some(m), Some(h)) => CheckMotion::Given(Motion {
+            a,
+            b,
+            m: exact("m", m)?,
+            h: exact("h", h)?,
             torus: whole("torus", torus.unwrap_or(0))?,
-            phase1: phase1.unwrap_or(0.0),
-            phase2: phase2.unwrap_or(0.0),
+            phase1: exact("phase1", phase1.unwrap_or(0.0))?,
+            phase2: exact("phase2", phase2.unwrap_or(0.0))?,
         }),
-        (None, None) if torus.is_none() && phase1.is_none() && phase2.is_none() => None,
+        (None, None) if torus.is_none() && phase1.is_none() && phase2.is_none() => {
+            CheckMotion::Identify { a, b }
+        }
         (None, None) => {
             return Err(value_error(
                 &["torus", "phase1", "phase2"],
@@ -71,8 +80,6 @@ pub fn check<'py>(
     let request = CheckRequest {
         file: "<arrays>".into(),
         name: name.to_string(),
-        a,
-        b,
         motion,
         digits,
     };

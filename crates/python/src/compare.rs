@@ -234,7 +234,7 @@ pub fn compare<'py>(
             ),
         ));
     };
-    let case = case.on_grid(t_end, samples);
+    let case = case.on_grid(crate::case::time("t_end", t_end)?, samples);
     case.validate().map_err(harness_error)?;
     let result = py.detach(|| {
         match &chosen {

@@ -53,7 +53,11 @@ pub fn convergence<'py>(
             "only the Taylor methods take a fixed order",
         ));
     }
-    let plan = ConvergencePlan::new(case.on_grid(t_end, samples), &steps).map_err(|e| {
+    let plan = ConvergencePlan::new(
+        case.on_grid(crate::case::time("t_end", t_end)?, samples),
+        &steps,
+    )
+    .map_err(|e| {
         let msg = e.to_string();
         if msg.starts_with("steps") {
             value_error(&["steps"], msg)

@@ -56,14 +56,11 @@ pub fn events<'py>(
             ))
         }
     };
+    let motion =
+        rsts_closed_form::Motion::from_f64s([a, b, m, h], whole("torus", torus)?, [phase1, phase2])
+            .map_err(|e| value_error(&[e.name], e.error))?;
     let case = EventCase {
-        a,
-        b,
-        m,
-        h,
-        torus: whole("torus", torus)?,
-        phase1,
-        phase2,
+        motion,
         t_start,
         t_end,
         digits,

@@ -74,8 +74,8 @@ pub struct Args {
     #[command(flatten)]
     pub case: CaseArgs,
     /// End time T > 0
-    #[arg(long, value_name = "T", default_value = "100", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub t_end: f64,
+    #[arg(long, value_name = "T", default_value = "100", value_parser = crate::args::decimal, allow_hyphen_values = true)]
+    pub t_end: rsts_closed_form::Decimal,
     /// Number N >= 2 of samples evenly spaced on [0, T] where the error is measured
     #[arg(long, value_name = "N", default_value = "101", value_parser = count)]
     pub samples: usize,
@@ -148,7 +148,7 @@ fn camera(s: &str) -> Result<Camera, String> {
 
 impl Args {
     fn case(&self) -> Case {
-        self.case.case(self.t_end, self.samples)
+        self.case.case(&self.t_end, self.samples)
     }
 }
 
@@ -297,7 +297,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             writeln!(
                 out,
                 "a = {}, b = {}, m = {}, h = {}, torus {}, T = {}, {} samples; time: median of {} runs",
-                case.a, case.b, case.m, case.h, case.torus, case.t_end, case.samples, report.repeats
+                case.motion.a, case.motion.b, case.motion.m, case.motion.h, case.motion.torus, case.t_end, case.samples, report.repeats
             )?;
             writeln!(out, "{}", report.environment.describe())?;
             output::write_table(out, &table(&report))?;

@@ -9,12 +9,13 @@ use anyhow::{anyhow, bail, Context};
 use clap::Args as ClapArgs;
 use serde::Serialize;
 
+use rsts_closed_form::{Decimal, Motion};
 use rsts_dynamics::State;
 use rsts_external::{F64Chunk, Survey, TrajectoryReader};
 use rsts_harness::events::{exact_event_times, match_events, parse_detected, EventMatchReport};
-use rsts_harness::{CheckReport, CheckRequest, CheckStream, GivenMotion};
+use rsts_harness::{CheckMotion, CheckReport, CheckRequest, CheckStream};
 
-use crate::args::{case_error, finite_f64, FieldArgs};
+use crate::args::{case_error, decimal, finite_f64, ExactFieldArgs};
 use crate::commands::compare::{
     check_finite_report, open_log, stop_on_ctrl_c, write_table, CliObserver, Interrupted,
 };
@@ -60,22 +61,22 @@ pub struct Args {
     #[arg(long, value_enum, value_name = "FORMAT")]
     pub input_format: Option<InputFormat>,
     #[command(flatten)]
-    pub fields: FieldArgs,
+    pub fields: ExactFieldArgs,
     /// Value m of the partial integral of N (with --h; without both: identified from the first row)
-    #[arg(long, value_name = "M", value_parser = finite_f64, allow_hyphen_values = true, requires = "h")]
-    pub m: Option<f64>,
+    #[arg(long, value_name = "M", value_parser = decimal, allow_hyphen_values = true, requires = "h")]
+    pub m: Option<Decimal>,
     /// Energy h (with --m)
-    #[arg(long, value_name = "H", value_parser = finite_f64, allow_hyphen_values = true, requires = "m")]
-    pub h: Option<f64>,
+    #[arg(long, value_name = "H", value_parser = decimal, allow_hyphen_values = true, requires = "m")]
+    pub h: Option<Decimal>,
     /// Which Liouville torus (0-based; with --m/--h; default 0)
     #[arg(long, value_name = "K", requires = "m")]
     pub torus: Option<usize>,
     /// Angle psi1 on the torus at t = 0 (radians; with --m/--h; default 0)
-    #[arg(long, value_name = "X", value_parser = finite_f64, allow_hyphen_values = true, requires = "m")]
-    pub phase1: Option<f64>,
+    #[arg(long, value_name = "X", value_parser = decimal, allow_hyphen_values = true, requires = "m")]
+    pub phase1: Option<Decimal>,
     /// Angle psi2 on the torus at t = 0 (radians; with --m/--h; default 0)
-    #[arg(long, value_name = "Y", value_parser = finite_f64, allow_hyphen_values = true, requires = "m")]
-    pub phase2: Option<f64>,
+    #[arg(long, value_name = "Y", value_parser = decimal, allow_hyphen_values = true, requires = "m")]
+    pub phase2: Option<Decimal>,
     /// Decimal digits the data carry (default: 15 for f64 data, else those of the longest value);
     /// the reference is evaluated 64 bits beyond (at least 30 digits)
     #[arg(long, value_name = "D")]
@@ -229,8 +230,8 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
             bail!("--digits: must be between 1 and 10000, got {d}");
         }
     }
-    let (a, b) = (args.fields.a, args.fields.b);
-    rsts_dynamics::Fields::new(a, b).map_err(|e| anyhow!("--a/--b: {e}"))?;
+    let (a, b) = (args.fields.a.clone(), args.fields.b.clone());
+    rsts_dynamics::Fields::new(a.to_f64(), b.to_f64()).map_err(|e| anyhow!("--a/--b: {e}"))?;
     let stdin = args.file.as_os_str() == "-";
     let name = args
         .file
@@ -251,17 +252,17 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
             args.file.display().to_string()
         },
         name,
-        a,
-        b,
-        motion: match (args.m, args.h) {
-            (Some(m), Some(h)) => Some(GivenMotion {
-                m,
-                h,
+        motion: match (&args.m, &args.h) {
+            (Some(m), Some(h)) => CheckMotion::Given(Motion {
+                a,
+                b,
+                m: m.clone(),
+                h: h.clone(),
                 torus: args.torus.unwrap_or(0),
-                phase1: args.phase1.unwrap_or(0.0),
-                phase2: args.phase2.unwrap_or(0.0),
+                phase1: args.phase1.clone().unwrap_or_default(),
+                phase2: args.phase2.clone().unwrap_or_default(),
             }),
-            _ => None,
+            _ => CheckMotion::Identify { a, b },
         },
         digits: 15,
     };
@@ -306,7 +307,7 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
         }
     };
     let start = rsts_harness::Check::start(&request, &t0, &state0, survey.extent).map_err(|e| {
-        if request.motion.is_some() {
+        if matches!(request.motion, CheckMotion::Given(_)) {
             case_error(e)
         } else {
             anyhow!("{e}")
@@ -386,15 +387,8 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
                     });
                 }
             }
-            let exact = exact_event_times(
-                (a, b, case.m, case.h),
-                case.torus,
-                (case.phase1, case.phase2),
-                &event_specs,
-                report.span.0,
-                report.span.1,
-            )
-            .map_err(|e| anyhow!("--events: {e}"))?;
+            let exact = exact_event_times(&case.motion, &event_specs, report.span.0, report.span.1)
+                .map_err(|e| anyhow!("--events: {e}"))?;
             Some(match_events(&exact, found))
         }
     };
@@ -420,8 +414,8 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
                             } else {
                                 "given"
                             },
-                            case.phase1,
-                            case.phase2
+                            case.motion.phase1.to_f64(),
+                            case.motion.phase2.to_f64()
                         ),
                     ),
                     (
@@ -435,7 +429,7 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
                 out,
                 &report.report,
                 &format!("{t_first}, {t_last}"),
-                (a, b, case.m, case.h, case.torus),
+                &case.motion,
             )?;
             if let Some(ev) = &events {
                 writeln!(out, "events: {}", ev.summary())?;

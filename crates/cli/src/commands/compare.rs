@@ -20,7 +20,7 @@ use rsts_harness::{
 };
 use rsts_mcap::{BodyState, ErrorSample, Metadata, Sample, TrajectoryLog};
 
-use crate::args::{case_error, count, finite_f64, CaseArgs, MethodArgs, MAX_SAMPLES};
+use crate::args::{case_error, count, decimal, finite_f64, CaseArgs, MethodArgs, MAX_SAMPLES};
 use crate::external::{exec_integrator, TimeoutArgs};
 use crate::interrupt;
 use crate::output::{self, Format};
@@ -53,8 +53,8 @@ pub struct Args {
     #[command(flatten)]
     pub case: CaseArgs,
     /// End time T >= 0
-    #[arg(long, value_name = "T", default_value = "100", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub t_end: f64,
+    #[arg(long, value_name = "T", default_value = "100", value_parser = decimal, allow_hyphen_values = true)]
+    pub t_end: rsts_closed_form::Decimal,
     /// Number N >= 1 of samples evenly spaced on [0, T]
     #[arg(long, value_name = "N", default_value = "1001", value_parser = count)]
     pub samples: usize,
@@ -98,7 +98,7 @@ pub struct Args {
 
 impl Args {
     fn case(&self) -> Case {
-        self.case.case(self.t_end, self.samples)
+        self.case.case(&self.t_end, self.samples)
     }
 }
 
@@ -428,13 +428,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         Format::Json => output::write_json(out, &doc)?,
         Format::Csv => output::write_records_csv(out, &[&doc])?,
         Format::Table => {
-            let c = &args.case;
-            write_table(
-                out,
-                &report,
-                &format!("0, {}", args.t_end),
-                (c.fields.a, c.fields.b, c.m, c.h, c.torus),
-            )?;
+            write_table(out, &report, &format!("0, {}", args.t_end), &case.motion)?;
             if let Some(ev) = &events {
                 writeln!(out, "events: {}", ev.summary())?;
             }
@@ -485,14 +479,16 @@ pub(crate) fn check_finite_report(r: &Report) -> anyhow::Result<()> {
     rsts_harness::check_finite_report(r).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
-/// The report as `key: value` lines; `span` is the time interval, `case` (a, b, m, h, torus).
+/// The report as `key: value` lines; `span` is the time interval.
 pub(crate) fn write_table(
     out: &mut dyn Write,
     r: &Report,
     span: &str,
-    case: (f64, f64, f64, f64, usize),
+    motion: &rsts_closed_form::Motion,
 ) -> anyhow::Result<()> {
-    let (a, b, m, h, torus) = case;
+    // The numbers as the report's JSON shows them (f64).
+    let [a, b, m, h] = motion.parameters_f64();
+    let torus = motion.torus;
     let e = |x: f64| format!("{x:.3e}");
     let mut items = vec![
         (

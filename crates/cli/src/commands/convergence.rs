@@ -41,8 +41,8 @@ pub struct Args {
     #[command(flatten)]
     pub case: CaseArgs,
     /// End time T > 0
-    #[arg(long, value_name = "T", default_value = "10", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub t_end: f64,
+    #[arg(long, value_name = "T", default_value = "10", value_parser = crate::args::decimal, allow_hyphen_values = true)]
+    pub t_end: rsts_closed_form::Decimal,
     /// Number N >= 2 of samples evenly spaced on [0, T] where the error is measured
     #[arg(long, value_name = "N", default_value = "11", value_parser = count)]
     pub samples: usize,
@@ -99,7 +99,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             args.digits
         );
     }
-    let case = args.case.case(args.t_end, args.samples);
+    let case = args.case.case(&args.t_end, args.samples);
     let plan = ConvergencePlan::new(case, &steps).map_err(|e| {
         let msg = e.to_string();
         if msg.starts_with("steps") {
@@ -172,7 +172,7 @@ fn write_table(out: &mut dyn Write, report: &ConvergenceReport) -> anyhow::Resul
     writeln!(
         out,
         "a = {}, b = {}, m = {}, h = {}, torus {}, T = {}, {} samples; fixed steps",
-        c.a, c.b, c.m, c.h, c.torus, c.t_end, c.samples
+        c.motion.a, c.motion.b, c.motion.m, c.motion.h, c.motion.torus, c.t_end, c.samples
     )?;
     let mut t = Tabular::new([
         "method",

@@ -82,13 +82,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     let c = &args.case;
     let case = EventCase {
-        a: c.fields.a,
-        b: c.fields.b,
-        m: c.m,
-        h: c.h,
-        torus: c.torus,
-        phase1: c.phase1,
-        phase2: c.phase2,
+        motion: c.motion(),
         t_start: args.t_start,
         t_end: args.t_end,
         digits: args.digits,
@@ -141,10 +135,19 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 out,
                 &[
                     ("camera", k.camera.clone()),
-                    ("a, b, m, h", format!("{}, {}, {}, {}", k.a, k.b, k.m, k.h)),
+                    (
+                        "a, b, m, h",
+                        format!(
+                            "{}, {}, {}, {}",
+                            k.motion.a, k.motion.b, k.motion.m, k.motion.h
+                        ),
+                    ),
                     (
                         "torus, phases",
-                        format!("{}, ({}, {})", k.torus, k.phase1, k.phase2),
+                        format!(
+                            "{}, ({}, {})",
+                            k.motion.torus, k.motion.phase1, k.motion.phase2
+                        ),
                     ),
                     ("window", format!("({}, {}]", k.t_start, k.t_end)),
                     ("events asked", asked.join(" ")),

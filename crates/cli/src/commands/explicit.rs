@@ -197,10 +197,10 @@ fn run_in<T: Scalar>(
         );
     }
     let [a, b, m, h] = [
-        ("a", &args.fields.a),
-        ("b", &args.fields.b),
-        ("m", &args.m),
-        ("h", &args.h),
+        ("a", args.fields.a.as_str()),
+        ("b", args.fields.b.as_str()),
+        ("m", args.m.as_str()),
+        ("h", args.h.as_str()),
     ]
     .map(|(name, s)| read::<T>(name, s, bits));
     let t_end: T = read("t-end", &args.t_end, bits)?;
@@ -246,17 +246,14 @@ fn run_in<T: Scalar>(
         None
     } else {
         let c = &motion.constants;
-        let case = rsts_harness::Case {
-            a: c.a.to_f64(),
-            b: c.b.to_f64(),
-            m: c.m.to_f64(),
-            h: c.h.to_f64(),
-            torus: args.torus,
-            phase1: args.phase1,
-            phase2: args.phase2,
-            t_end: t_max,
-            samples: 1,
-        };
+        let case = rsts_harness::Case::binary(
+            [c.a.to_f64(), c.b.to_f64(), c.m.to_f64(), c.h.to_f64()],
+            args.torus,
+            [args.phase1, args.phase2],
+            t_max,
+            1,
+        )
+        .unwrap();
         Some(RoundedExplicit::new(&case, t_max).map_err(crate::args::case_error)?)
     };
     // t_k = T·k/(N−1), computed with guard bits and rounded once (T·k may overflow f64).

@@ -125,8 +125,8 @@ fn run_in<T: Scalar>(
     digits: u32,
     out: &mut dyn Write,
 ) -> anyhow::Result<()> {
-    let a: T = read("a", &args.fields.a, bits)?;
-    let b: T = read("b", &args.fields.b, bits)?;
+    let a: T = read("a", args.fields.a.as_str(), bits)?;
+    let b: T = read("b", args.fields.b.as_str(), bits)?;
     let state = State {
         omega: read3("omega", &args.omega, bits)?,
         alpha: read3("alpha", &args.alpha, bits)?,

@@ -141,7 +141,9 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         "the reference",
         times.len() as f64 * 13.0 * bytes_per_value(args.format, digits),
     )?;
-    let case = args.case.case(0.0, 1);
+    let case = args
+        .case
+        .case(&rsts_closed_form::Decimal::from_integer(0), 1);
     let table = ReferenceTable::new(&case, &times, digits).map_err(case_error)?;
     if let Some(path) = &args.output {
         rsts_io::check_writable(path).with_context(|| format!("-o {}", path.display()))?;
@@ -189,14 +191,14 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 // One document, one sample per line, written as the samples are made.
                 let c = &case;
                 let head = [
-                    ("a", json!(c.a)),
-                    ("b", json!(c.b)),
-                    ("m", json!(c.m)),
-                    ("h", json!(c.h)),
+                    ("a", json!(c.motion.a)),
+                    ("b", json!(c.motion.b)),
+                    ("m", json!(c.motion.m)),
+                    ("h", json!(c.motion.h)),
                     ("camera", json!(table.analysis().motion().camera.label())),
-                    ("torus", json!(c.torus)),
-                    ("phase1", json!(c.phase1)),
-                    ("phase2", json!(c.phase2)),
+                    ("torus", json!(c.motion.torus)),
+                    ("phase1", json!(c.motion.phase1)),
+                    ("phase2", json!(c.motion.phase2)),
                     ("digits", json!(digits)),
                 ];
                 writeln!(w, "{{")?;

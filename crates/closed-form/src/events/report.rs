@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use super::{exact_events, working_bits, Crossing, EventSpec, ExactEvent};
 use crate::error::ClosedFormError;
-use crate::motion::{ExplicitMotion, TorusChoice};
+use crate::motion::Motion;
 use rsts_dynamics::Real;
 
 /// A number of the report: f64 (correctly rounded from the working precision) or a decimal
@@ -37,13 +37,8 @@ impl Number {
 /// The motion and the window.
 #[derive(Clone, Debug, Serialize)]
 pub struct EventCase {
-    pub a: f64,
-    pub b: f64,
-    pub m: f64,
-    pub h: f64,
-    pub torus: usize,
-    pub phase1: f64,
-    pub phase2: f64,
+    #[serde(flatten)]
+    pub motion: Motion,
     pub t_start: f64,
     pub t_end: f64,
     /// Decimal digits of the times and states (`None`: f64).
@@ -99,15 +94,9 @@ pub fn events_report(
     specs: &[EventSpec],
 ) -> Result<EventsReport, ClosedFormError> {
     let bits = working_bits(case.digits);
-    let choice = TorusChoice {
-        torus: case.torus,
-        phase1: case.phase1,
-        phase2: case.phase2,
-    };
     let f = |x: f64| Float::with_val(bits, x);
     let t_max = case.t_start.abs().max(case.t_end.abs());
-    let motion =
-        ExplicitMotion::new_until(f(case.a), f(case.b), f(case.m), f(case.h), choice, t_max)?;
+    let motion = case.motion.explicit::<Float>(bits, t_max)?;
     case.camera = motion.camera.label().to_string();
     let events = exact_events(&motion, specs, &f(case.t_start), &f(case.t_end))?;
     Ok(EventsReport {

@@ -9,7 +9,7 @@ use rsts_dynamics::Real;
 use crate::constants::IntegralConstants;
 use crate::error::ClosedFormError;
 use crate::formulas::{explicit_state, ExplicitState, FormulaConstants, SeparatedCoordinates};
-use crate::motion::{ExplicitMotion, TorusChoice};
+use crate::motion::ExplicitMotion;
 use crate::separated::{SeparatedPoint, SeparatedVariable};
 
 /// A torus of N as a map (ψ₁, ψ₂) → state, with its derivative.
@@ -266,13 +266,14 @@ pub(crate) fn seeded<T: Real>(
 
 /// The torus `torus` of (m, h) over any scalar (seeded derivatives ride along).
 fn torus_of<S: Real>([a, b, m, h]: [S; 4], torus: usize) -> Result<TorusMap<S>, ClosedFormError> {
-    let choice = TorusChoice {
-        torus,
-        phase1: 0.0,
-        phase2: 0.0,
-    };
+    let zero = a.zero_like();
     Ok(TorusMap::of_motion(&ExplicitMotion::build(
-        a, b, m, h, choice,
+        a,
+        b,
+        m,
+        h,
+        torus,
+        [zero.clone(), zero],
     )?))
 }
 

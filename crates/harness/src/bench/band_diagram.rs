@@ -66,7 +66,9 @@ pub fn ensemble_work_precision(report: &BenchReport, cost: Cost) -> Chart {
     Chart::log_log(
         format!(
             "Work–precision over {n} motions: a = {}, b = {}, T = {}",
-            case.a, case.b, case.t_end
+            case.motion.a.to_f64(),
+            case.motion.b.to_f64(),
+            case.t_end_f64()
         ),
         format!(
             "max state error over {} samples: median (line) and 5–95 % of the motions (band)",

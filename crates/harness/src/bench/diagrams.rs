@@ -147,7 +147,11 @@ pub fn work_precision(report: &BenchReport, cost: Cost) -> Chart {
     Chart::log_log(
         format!(
             "Work–precision: a = {}, b = {}, m = {}, h = {}, T = {}",
-            case.a, case.b, case.m, case.h, case.t_end
+            case.motion.a.to_f64(),
+            case.motion.b.to_f64(),
+            case.motion.m.to_f64(),
+            case.motion.h.to_f64(),
+            case.t_end_f64()
         ),
         format!(
             "max state error over {} samples (closed-form reference)",
@@ -214,7 +218,11 @@ pub fn tolerance_proportionality(report: &BenchReport) -> Chart {
     Chart::log_log(
         format!(
             "Tolerance proportionality: a = {}, b = {}, m = {}, h = {}, T = {}",
-            case.a, case.b, case.m, case.h, case.t_end
+            case.motion.a.to_f64(),
+            case.motion.b.to_f64(),
+            case.motion.m.to_f64(),
+            case.motion.h.to_f64(),
+            case.t_end_f64()
         ),
         "tolerance (rtol = atol)",
         format!(

@@ -151,7 +151,7 @@ fn run(
     if let Some(k) = dense {
         crate::dense::check_dense(k).map_err(|e| setting(&["dense"], e.to_string()))?;
     }
-    if case.t_end <= 0.0 || case.samples < 2 {
+    if case.t_end_f64() <= 0.0 || case.samples < 2 {
         return Err(setting(
             &["t-end", "samples"],
             "a benchmark needs T > 0 and at least 2 samples".into(),
@@ -189,7 +189,8 @@ fn run(
                     "events are not located in an ensemble; leave out one of them".into(),
                 ));
             }
-            let e = draw_ensemble(case.a, case.b, &plan.cameras, plan.n, plan.seed)
+            let [a, b, _, _] = case.motion.parameters_f64();
+            let e = draw_ensemble(a, b, &plan.cameras, plan.n, plan.seed)
                 .map_err(|e| setting(e.parameters(), e.to_string()))?;
             Some(e)
         }
@@ -377,7 +378,7 @@ fn run(
                             None => run_once(&reference, integrator.as_mut()).map_err(plain)?,
                         };
                         if times.is_empty() {
-                            times.push(case.t_end);
+                            times.push(case.t_end_f64());
                         }
                         let ev = events_of_run(case, &specs, answered.as_deref(), &times, &states)?;
                         row.events = Some(ev.counts());
@@ -446,28 +447,18 @@ fn plain(e: HarnessError) -> HarnessError {
 /// The optimistic step estimate of one run of `config` on `case` (its initial state from the
 /// closed form in f64).
 fn estimate_steps(case: &Case, config: &MethodConfig) -> Result<f64, HarnessError> {
-    use rsts_dynamics::integrators::{OutputGrid, Problem};
-    let motion = rsts_closed_form::ExplicitMotion::<f64>::new(
-        case.a,
-        case.b,
-        case.m,
-        case.h,
-        rsts_closed_form::TorusChoice {
-            torus: case.torus,
-            phase1: case.phase1,
-            phase2: case.phase2,
-        },
-    )?;
+    use rsts_dynamics::integrators::Problem;
+    let motion = case.motion.explicit::<f64>(53, 0.0)?;
     let s = motion.at(&0.0);
     let problem = Problem {
-        fields: rsts_dynamics::Fields::new(case.a, case.b).map_err(|e| plain(e.into()))?,
+        fields: case.motion.fields(53).map_err(|e| plain(e.into()))?,
         initial: rsts_dynamics::State {
             omega: [s.omega[0], s.omega[1], s.omega[2]],
             alpha: [s.alpha[0], s.alpha[1], s.alpha[2]],
             beta: [s.beta[0], s.beta[1], s.beta[2]],
         },
     };
-    let grid = OutputGrid::new(case.t_end, case.samples).map_err(|e| plain(e.into()))?;
+    let grid = case.grid().map_err(plain)?;
     Ok(config.estimate_steps(&problem, &grid))
 }
 
@@ -526,11 +517,8 @@ mod tests {
     fn a_user_integrator_is_a_method_beside_the_builtins() {
         let mut mine = MyRk4;
         let request = BenchRequest {
-            case: Case {
-                t_end: 5.0,
-                samples: 6,
-                ..Case::default_i_plus()
-            },
+            case: Case::default_i_plus()
+                .with_grid(rsts_closed_form::Decimal::parse("5").unwrap(), 6),
             methods: vec![
                 BenchMethod::Outside(&mut mine),
                 BenchMethod::BuiltIn(MethodName::Dop853),

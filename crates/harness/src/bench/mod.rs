@@ -89,7 +89,7 @@ impl Reference {
     pub fn new(case: &Case, bits: u32) -> Result<Self, HarnessError> {
         let f = |x: f64| Float::with_val(bits, x);
         let (motion, fields) = case.reference_motion(bits)?;
-        let grid = OutputGrid::new(case.t_end, case.samples)?;
+        let grid = case.grid()?;
         let times = grid.times();
         let states = times
             .iter()
@@ -310,10 +310,11 @@ mod tests {
     use rsts_dynamics::integrators::{MethodName, Stats};
 
     fn case(t_end: f64, samples: usize) -> Case {
-        Case {
-            t_end,
-            samples,
-            ..Case::default_i_plus()
+        {
+            let mut c = Case::default_i_plus();
+            c.t_end = rsts_closed_form::Decimal::from_f64(t_end as f64).unwrap();
+            c.samples = samples;
+            c
         }
     }
 
@@ -341,10 +342,10 @@ mod tests {
         let bits = 300;
         let f = |x: f64| Float::with_val(bits, x);
         let motion = ExplicitMotion::new(
-            f(c.a),
-            f(c.b),
-            f(c.m),
-            f(c.h),
+            f(c.motion.a.to_f64()),
+            f(c.motion.b.to_f64()),
+            f(c.motion.m.to_f64()),
+            f(c.motion.h.to_f64()),
             TorusChoice {
                 torus: 0,
                 phase1: 0.0,
@@ -354,10 +355,10 @@ mod tests {
         .unwrap();
         let start = exact_state(&motion.at(&f(0.0)));
         let problem = Problem {
-            fields: Fields::new(c.a, c.b).unwrap(),
+            fields: Fields::new(c.motion.a.to_f64(), c.motion.b.to_f64()).unwrap(),
             initial: start.map(|x| x.to_f64()),
         };
-        let grid = OutputGrid::new(c.t_end, c.samples).unwrap();
+        let grid = c.grid().unwrap();
         let sol = cfg.propagate_f64(&problem, &grid).unwrap();
         let mut worst = 0.0f64;
         for (k, s) in sol.states.iter().enumerate() {

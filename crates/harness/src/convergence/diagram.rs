@@ -64,7 +64,11 @@ pub fn chart(report: &ConvergenceReport) -> Chart {
     Chart::log_log(
         format!(
             "Observed order: a = {}, b = {}, m = {}, h = {}, T = {}",
-            c.a, c.b, c.m, c.h, c.t_end
+            c.motion.a.to_f64(),
+            c.motion.b.to_f64(),
+            c.motion.m.to_f64(),
+            c.motion.h.to_f64(),
+            c.t_end_f64()
         ),
         "fixed step h",
         format!(

@@ -1,10 +1,11 @@
 use super::*;
 
 fn case(t_end: f64, samples: usize) -> Case {
-    Case {
-        t_end,
-        samples,
-        ..Case::default_i_plus()
+    {
+        let mut c = Case::default_i_plus();
+        c.t_end = rsts_closed_form::Decimal::from_f64(t_end as f64).unwrap();
+        c.samples = samples;
+        c
     }
 }
 

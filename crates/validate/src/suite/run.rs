@@ -63,17 +63,19 @@ pub struct Run {
 impl Run {
     /// The harness case.
     pub fn harness_case(&self) -> rsts_harness::Case {
-        rsts_harness::Case {
-            a: self.a,
-            b: self.b,
-            m: self.m,
-            h: self.h,
+        // A suite's numbers as written: a TOML float is the shortest decimal that rounds to it.
+        let d =
+            |x: f64| rsts_closed_form::Decimal::shortest(x).expect("a suite's numbers are finite");
+        let motion = rsts_closed_form::Motion {
+            a: d(self.a),
+            b: d(self.b),
+            m: d(self.m),
+            h: d(self.h),
             torus: self.torus,
-            phase1: self.phase1,
-            phase2: self.phase2,
-            t_end: self.t_end,
-            samples: self.samples,
-        }
+            phase1: d(self.phase1),
+            phase2: d(self.phase2),
+        };
+        rsts_harness::Case::new(motion, d(self.t_end), self.samples)
     }
 
     /// The method config of an integrator run.

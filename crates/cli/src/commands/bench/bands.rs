@@ -16,7 +16,7 @@ pub(super) fn write_table(out: &mut dyn Write, report: &BenchReport) -> anyhow::
     writeln!(
         out,
         "ensemble of {} motions (seed {}): a = {}, b = {}, T = {}, {} samples; time: median of {} runs",
-        e.n, e.seed, case.a, case.b, case.t_end, case.samples, report.repeats
+        e.n, e.seed, case.motion.a, case.motion.b, case.t_end, case.samples, report.repeats
     )?;
     writeln!(out, "{}", report.environment.describe())?;
     let mut t = Tabular::new(vec![

@@ -1,0 +1,76 @@
+//! The errors of a flow: what went wrong, the inputs it concerns, and its kind.
+
+use rsts_harness::HarnessError;
+
+/// What kind of failure an error is: a face maps it to its exit status (CLI: 2 for bad input
+/// and failed runs, 130 for an interrupted one) or exception (Python: `ValueError` for bad input,
+/// `RuntimeError` for a failed run, `KeyboardInterrupt`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The request cannot be carried out as given (a value out of range, a file that is not a
+    /// trajectory, a motion that does not exist).
+    BadInput,
+    /// The work failed (an integrator that diverged, an external process that died).
+    Failed,
+    /// Stopped by the user (Ctrl-C) or by an observer.
+    Interrupted,
+}
+
+/// An error of a flow.
+#[derive(Debug, thiserror::Error)]
+pub enum FlowError {
+    /// Bad input: the inputs it concerns (the CLI's option names without `--`: `t-end`, `m`; a
+    /// face spells them its own way) and why.
+    #[error("{message}")]
+    Input {
+        names: Vec<&'static str>,
+        message: String,
+    },
+    /// The comparison, the closed form or the integrator failed or refused.
+    #[error(transparent)]
+    Harness(#[from] HarnessError),
+    /// The run was stopped; what was done is described.
+    #[error("interrupted: {0}")]
+    Interrupted(String),
+    /// An output could not be written (its path and why).
+    #[error("{0}")]
+    Output(String),
+}
+
+impl FlowError {
+    /// Bad input concerning `names`.
+    pub fn input(names: &[&'static str], message: impl Into<String>) -> Self {
+        FlowError::Input {
+            names: names.to_vec(),
+            message: message.into(),
+        }
+    }
+
+    /// The inputs the error concerns (empty when it names none).
+    pub fn names(&self) -> Vec<String> {
+        match self {
+            FlowError::Input { names, .. } => names.iter().map(|n| n.to_string()).collect(),
+            FlowError::Harness(e) => e.parameters(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// What kind of failure it is.
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            FlowError::Input { .. } => ErrorKind::BadInput,
+            FlowError::Harness(HarnessError::Integrator(_) | HarnessError::Observer(_)) => {
+                ErrorKind::Failed
+            }
+            FlowError::Harness(_) => ErrorKind::BadInput,
+            FlowError::Interrupted(_) => ErrorKind::Interrupted,
+            FlowError::Output(_) => ErrorKind::Failed,
+        }
+    }
+}
+
+impl From<rsts_closed_form::InputError> for FlowError {
+    fn from(e: rsts_closed_form::InputError) -> Self {
+        FlowError::input(&[e.name], e.error.to_string())
+    }
+}
