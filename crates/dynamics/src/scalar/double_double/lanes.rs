@@ -72,7 +72,10 @@ impl<const L: usize> DoubleDoubleLanes<L> {
     /// L f64, exactly (low parts 0).
     #[inline(always)]
     pub fn from_f64_exact(x: [f64; L]) -> Self {
-        Self { hi: x, lo: [0.0; L] }
+        Self {
+            hi: x,
+            lo: [0.0; L],
+        }
     }
 
     /// L numbers as lanes.

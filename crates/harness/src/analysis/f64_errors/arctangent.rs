@@ -68,7 +68,8 @@ pub(crate) fn arctangent<const L: usize>(
     let mut tail = [0.0; L];
     for i in 0..L {
         let (u, w1) = (u.hi[i], w.hi[i]);
-        tail[i] = u * w1 * w1 * w1 * (-1.0 / 7.0 + w1 * (1.0 / 9.0 - w1 * (1.0 / 11.0 - w1 / 13.0)));
+        tail[i] =
+            u * w1 * w1 * w1 * (-1.0 / 7.0 + w1 * (1.0 / 9.0 - w1 * (1.0 / 11.0 - w1 / 13.0)));
     }
     let series = (u - u * w * (Lanes::splat(THIRD) - w * Lanes::splat(FIFTH))).add_f64(tail);
     let z = table + series;

@@ -82,7 +82,14 @@ fn f64_kernel_gives_the_numbers_of_the_general_code() {
         let i0 = integrals(&f, &exact);
         let i0 = [i0.h, i0.k, i0.g];
         let ratio = [1.0, 1e-3][n % 2];
-        let [(fast, fast_digits)] = f64_sample_errors::<1>(&f, &manifold, &i0, std::slice::from_ref(&exact), &[x], ratio);
+        let [(fast, fast_digits)] = f64_sample_errors::<1>(
+            &f,
+            &manifold,
+            &i0,
+            std::slice::from_ref(&exact),
+            &[x],
+            ratio,
+        );
         let state = State::from_slice(&x.map(Dd::from_f64_exact));
         let (slow, _) = sample_errors(&f, &manifold, &i0, &exact, &state, false);
         let slow_digits = sample_errors_dd(&exact, &x, ratio);
@@ -150,7 +157,9 @@ fn small_angle_is_the_arctangent_to_double_double_accuracy() {
     for _ in 0..20_000 {
         let theta = 10f64.powf(rng.gen_range(-20.0..-1.0));
         let (sin, cos) = (dd(&mut rng, theta.sin()), dd(&mut rng, theta.cos()));
-        let got = small_angle::<1>(sin.into(), cos.into()).lane(0).to_float(MP);
+        let got = small_angle::<1>(sin.into(), cos.into())
+            .lane(0)
+            .to_float(MP);
         let want = sin.to_float(MP).atan2(&cos.to_float(MP));
         let error = ((got - &want) / &want).abs().to_f64();
         assert!(error <= 4.0 * 2f64.powi(-106), "θ = {theta:e}: {error:e}");
@@ -240,8 +249,9 @@ fn orientation_error_is_that_of_mpfr_to_the_double_double_bound() {
         let (x, exact) = on_constraints(&mut rng);
         let y = exact.to_array();
         let delta: [Dd; 9] = std::array::from_fn(|k| Dd::from_f64_exact(x[k]) - y[k]);
-        let got = orientation_error::<1>(&x.map(|v| [v]), &y.map(Into::into), &delta.map(Into::into))
-            .lane(0);
+        let got =
+            orientation_error::<1>(&x.map(|v| [v]), &y.map(Into::into), &delta.map(Into::into))
+                .lane(0);
         let wide = |s: &State<Dd>| s.map(|v| v.to_float(MP));
         let state = State::from_slice(&x.map(Dd::from_f64_exact));
         let r = mul_bt(&wide(&state).orientation(), &wide(&exact).orientation());
