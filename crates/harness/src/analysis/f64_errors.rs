@@ -22,6 +22,10 @@
 //! function: under the caller's `#[target_feature]` every `mul_add` is then one instruction (a
 //! closure compiled apart would call the library's `fma`).
 
+// Index loops on purpose: one index i runs over the lanes of several arrays at once, in plain
+// loops over constant ranges that unroll under the caller's `#[target_feature]`.
+#![allow(clippy::needless_range_loop)]
+
 use rsts_dynamics::scalar::double_double::{quick_two_sum, two_prod, two_sum};
 use rsts_dynamics::scalar::{every_lane, DoubleDouble, DoubleDoubleLanes};
 use rsts_dynamics::{Fields, Real, State};

@@ -6,7 +6,7 @@ use rand_chacha::ChaCha8Rng;
 use rsts_closed_form::BatchPath;
 
 use super::super::*;
-use super::{dd, dd_measure, fields, on_constraints, sample};
+use super::{dd, dd_measure, fields, measured_bits, on_constraints, sample};
 use crate::analysis::f64_samples::{evaluated, measure_all_on, measure_portable};
 use crate::analysis::Evaluated;
 
@@ -43,23 +43,9 @@ fn any_sample(rng: &mut ChaCha8Rng) -> ([f64; 9], State<Dd>) {
     }
 }
 
-/// The bits of what is compared: the errors and the two digits' errors, any NaN as one (the
-/// sign of a NaN is not a number: the kernel in one lane itself, inlined into two callers, gives
-/// NaNs of either sign, as x86 passes on the NaN of an addition's first operand).
+/// The bits of what is compared ([`measured_bits`]).
 fn bits(ev: &Evaluated) -> [u64; 9] {
-    let e = &ev.errors;
-    [
-        e.state_error,
-        e.orientation_error,
-        e.drift_h,
-        e.drift_k,
-        e.drift_g,
-        e.constraint_drift,
-        e.off_n,
-        ev.digits.0,
-        ev.digits.1,
-    ]
-    .map(|v| if v.is_nan() { f64::NAN } else { v }.to_bits())
+    measured_bits(&ev.errors, ev.digits)
 }
 
 /// Batches of 1 to 70 samples (groups of four and a remainder) of every kind mixed in a
