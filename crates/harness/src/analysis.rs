@@ -231,8 +231,14 @@ impl Analysis {
         let exact = dd.state(t.to_f64());
         let x = state.to_array().map(|v| v.to_f64());
         // The errors of `check`'s f64 path; the snapshots (when asked) from the general code.
-        let (errors, _) =
-            f64_errors::f64_sample_errors(&m.fields, &m.n, &m.initial_integrals, &exact, &x);
+        let [(errors, _)] = f64_errors::f64_sample_errors::<1>(
+            &m.fields,
+            &m.n,
+            &m.initial_integrals,
+            std::slice::from_ref(&exact),
+            std::slice::from_ref(&x),
+            self.digits.ratio(),
+        );
         let snapshots = snapshots.then(|| {
             let x = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
             let (_, s) = sample_errors(&m.fields, &m.n, &m.initial_integrals, &exact, &x, true);

@@ -12,7 +12,7 @@ use rug::float::Constant;
 use rug::Float;
 
 pub mod double_double;
-pub use double_double::lanes::{every_lane, DoubleDouble4, LANES};
+pub use double_double::lanes::{every_lane, DoubleDouble4, DoubleDoubleLanes, LANES};
 pub use double_double::DoubleDouble;
 
 /// Bits of a `f64` mantissa, the precision `f64` reports.

@@ -1,7 +1,11 @@
-//! The errors of one f64 sample against its exact state in double-double, in one function the
-//! caller compiles with the processor's fused multiply-add ([`super::f64_samples`]): the state
-//! error, the orientation error, the drifts of H, K, G, the constraints, off_N and the
-//! differences the correct digits are taken from.
+//! The errors of f64 samples against their exact states in double-double, one kernel written
+//! once over the lane count L (as heyoka writes its kernels over the batch size): L = 1 is a
+//! sample at a time, L = 4 four samples in the lanes of [`DoubleDouble4`], which a caller
+//! compiled with AVX2 and FMA runs in one 256-bit register ([`super::f64_samples`]). Each lane
+//! performs the same IEEE operations whatever L, so a sample's numbers do not depend on the
+//! lanes it shares (tested, on both builds). Measured: the state error, the orientation error,
+//! the drifts of H, K, G, the constraints, off_N and the relative and mixed errors of the
+//! correct digits.
 //!
 //! The same numbers as [`crate::metrics::sample_errors`] in double-double, operation for
 //! operation, where a value of the data is an f64: a product of two f64 is formed exactly
@@ -13,84 +17,124 @@
 //! code's entries of R ≈ I carry 2⁻¹⁰⁶ of 1, a unit of the 16th digit of an angle ~1e-16),
 //! and for the small angles of a sample (tan θ < 2⁻¹⁴) the arctangent by its series
 //! (docs/closed-form.md).
+//!
+//! Plain loops and `#[inline(always)]` helpers throughout, no closure handed to a library
+//! function: under the caller's `#[target_feature]` every `mul_add` is then one instruction (a
+//! closure compiled apart would call the library's `fma`).
+
+// Index loops on purpose: one index i runs over the lanes of several arrays at once, in plain
+// loops over constant ranges that unroll under the caller's `#[target_feature]`.
+#![allow(clippy::needless_range_loop)]
 
 use rsts_dynamics::scalar::double_double::{quick_two_sum, two_prod, two_sum};
-use rsts_dynamics::scalar::DoubleDouble;
+use rsts_dynamics::scalar::{every_lane, DoubleDouble, DoubleDoubleLanes};
 use rsts_dynamics::{Fields, Real, State};
 
 use crate::metrics::{ManifoldN, SampleErrors};
 
 type Dd = DoubleDouble;
+/// L double-doubles, one per lane.
+type Lanes<const L: usize> = DoubleDoubleLanes<L>;
+/// L f64, one per lane.
+type F64s<const L: usize> = [f64; L];
 
-/// Everything measured of f64 data `x` (ω, α, β) against the exact state `exact`: the errors
-/// and the nine differences |xₖ − x̃ₖ| of the correct digits ([`crate::digits::of_differences`]).
-/// Plain loops and `#[inline(always)]` helpers throughout, no closure handed to a library
-/// function: under the caller's `#[target_feature(enable = "fma")]` every `mul_add` is then
-/// one instruction (a closure compiled apart would call the library's `fma`).
+/// What the kernel measures of a sample: its errors and the relative and mixed errors of its
+/// correct digits ([`crate::digits::of_differences`]).
+pub(crate) type Measured = (SampleErrors, (f64, f64));
+
+/// Everything measured of the L f64 samples `x[i]` (ω, α, β) against the exact states
+/// `exact[i]` (slices of at least L), the digits' errors with atol/rtol = `ratio`.
 #[inline(always)]
-pub(crate) fn f64_sample_errors(
+pub(crate) fn f64_sample_errors<const L: usize>(
     fields: &Fields<Dd>,
     n: &ManifoldN<Dd>,
     initial_integrals: &[Dd; 3],
-    exact: &State<Dd>,
-    x: &[f64; 9],
-) -> (SampleErrors, [Dd; 9]) {
-    let y = exact.to_array();
-    let mut delta = [Dd::ZERO; 9];
-    let mut d = [Dd::ZERO; 9];
-    let mut state_error = Dd::ZERO;
+    exact: &[State<Dd>],
+    x: &[[f64; 9]],
+    ratio: f64,
+) -> [Measured; L] {
+    // Component k of every sample: f64 lanes xs[k], double-double lanes y[k].
+    let mut xs = [[0.0; L]; 9];
+    let mut y = [Lanes::<L>::default(); 9];
+    for i in 0..L {
+        let yi = exact[i].to_array();
+        for k in 0..9 {
+            xs[k][i] = x[i][k];
+            y[k].set_lane(i, yi[k]);
+        }
+    }
+    let mut delta = [Lanes::default(); 9];
+    let mut d = [Lanes::default(); 9];
+    let mut state_error = Lanes::splat(Dd::ZERO);
     for k in 0..9 {
-        delta[k] = Dd::from_f64_exact(x[k]) - y[k];
+        delta[k] = Lanes::from_f64_exact(xs[k]) - y[k];
         d[k] = delta[k].abs();
         state_error = state_error.max_of(d[k]);
     }
-    let [h, k, g] = integrals_f64(fields, x);
-    let two = Dd::from_f64_exact(2.0);
-    let off_k = (k - n.k).abs();
-    let off_g = (two * g - n.p2 * h - n.r4m).abs();
-    let errors = SampleErrors {
-        state_error: state_error.to_f64(),
-        orientation_error: orientation_error(x, exact, &delta).to_f64(),
-        drift_h: (h - initial_integrals[0]).abs().to_f64(),
-        drift_k: (k - initial_integrals[1]).abs().to_f64(),
-        drift_g: (g - initial_integrals[2]).abs().to_f64(),
-        constraint_drift: constraint_error(x).to_f64(),
-        off_n: off_k.max_of(off_g).to_f64(),
-        distance_from_n: f64::NAN,
-        x_phi: f64::NAN,
-        along_n: f64::NAN,
-        phase_error: [f64::NAN; 2],
-    };
-    (errors, d)
-}
-
-/// v/2, exactly.
-#[inline(always)]
-fn half(v: Dd) -> Dd {
-    Dd {
-        hi: v.hi * 0.5,
-        lo: v.lo * 0.5,
+    let [h, k, g] = integrals_f64(fields, &xs);
+    let two = Lanes::splat(Dd::from_f64_exact(2.0));
+    let off_k = (k - Lanes::splat(n.k)).abs();
+    let off_g = (two * g - Lanes::splat(n.p2) * h - Lanes::splat(n.r4m)).abs();
+    let theta = orientation_error(&xs, &y, &delta);
+    let i0 = initial_integrals.map(Lanes::splat);
+    let drift = [(h - i0[0]).abs(), (k - i0[1]).abs(), (g - i0[2]).abs()];
+    let constraint = constraint_error(&xs);
+    let off_n = off_k.max_of(off_g);
+    let digits = digits(&d, &y, ratio);
+    let mut out = [(SampleErrors::default(), (0.0, 0.0)); L];
+    for (i, out) in out.iter_mut().enumerate() {
+        out.0 = SampleErrors {
+            state_error: state_error.lane(i).to_f64(),
+            orientation_error: theta.lane(i).to_f64(),
+            drift_h: drift[0].lane(i).to_f64(),
+            drift_k: drift[1].lane(i).to_f64(),
+            drift_g: drift[2].lane(i).to_f64(),
+            constraint_drift: constraint.lane(i).to_f64(),
+            off_n: off_n.lane(i).to_f64(),
+            distance_from_n: f64::NAN,
+            x_phi: f64::NAN,
+            along_n: f64::NAN,
+            phase_error: [f64::NAN; 2],
+        };
+        out.1 = digits[i];
     }
+    out
 }
 
-/// v/4, exactly.
+/// [`crate::digits::of_differences`] of each lane (d = |x − y|, y the exact states): the sizes
+/// and scales in the lanes, the largest quotients lane by lane.
 #[inline(always)]
-fn quarter(v: Dd) -> Dd {
-    Dd {
-        hi: v.hi * 0.25,
-        lo: v.lo * 0.25,
+fn digits<const L: usize>(d: &[Lanes<L>; 9], y: &[Lanes<L>; 9], ratio: f64) -> [(f64, f64); L] {
+    let mut size = [Lanes::default(); 9];
+    let mut scale = [Lanes::default(); 9];
+    for k in 0..9 {
+        size[k] = y[k].abs();
+        scale[k] = size[k].add_f64([ratio; L]);
     }
+    let mut out = [(0.0, 0.0); L];
+    for (i, out) in out.iter_mut().enumerate() {
+        let (mut di, mut si, mut ci) = ([Dd::ZERO; 9], [Dd::ZERO; 9], [Dd::ZERO; 9]);
+        for k in 0..9 {
+            (di[k], si[k], ci[k]) = (d[k].lane(i), size[k].lane(i), scale[k].lane(i));
+        }
+        *out = crate::digits::of_sizes(&di, &si, &ci);
+    }
+    out
 }
 
-/// u·v, exactly (a double-double).
+/// 2u lane by lane.
 #[inline(always)]
-fn prod(u: f64, v: f64) -> Dd {
-    Dd::prod_f64(u, v)
+fn twice<const L: usize>(u: F64s<L>) -> F64s<L> {
+    let mut out = u;
+    for v in &mut out {
+        *v *= 2.0;
+    }
+    out
 }
 
 /// u×v in double-double ([`rsts_dynamics::vec3::cross`]).
 #[inline(always)]
-fn cross_dd(u: &[Dd; 3], v: &[Dd; 3]) -> [Dd; 3] {
+fn cross<const L: usize>(u: &[Lanes<L>; 3], v: &[Lanes<L>; 3]) -> [Lanes<L>; 3] {
     [
         u[1] * v[2] - u[2] * v[1],
         u[2] * v[0] - u[0] * v[2],
@@ -100,51 +144,44 @@ fn cross_dd(u: &[Dd; 3], v: &[Dd; 3]) -> [Dd; 3] {
 
 /// u·v of an f64 vector and a double-double one.
 #[inline(always)]
-fn dot_f64_dd(u: &[f64], v: &[Dd; 3]) -> Dd {
+fn dot_f64_dd<const L: usize>(u: &[F64s<L>; 3], v: &[Lanes<L>; 3]) -> Lanes<L> {
     v[0].mul_f64(u[0]) + v[1].mul_f64(u[1]) + v[2].mul_f64(u[2])
 }
 
 /// u·v of two f64 vectors: three exact products summed in double-double.
 #[inline(always)]
-fn dot_f64(u: &[f64], v: &[f64]) -> Dd {
-    prod(u[0], v[0]) + prod(u[1], v[1]) + prod(u[2], v[2])
+fn dot_f64<const L: usize>(u: &[F64s<L>], v: &[F64s<L>]) -> Lanes<L> {
+    Lanes::prod_f64(u[0], v[0]) + Lanes::prod_f64(u[1], v[1]) + Lanes::prod_f64(u[2], v[2])
 }
 
-/// H, K, G of the f64 state `x` ([`rsts_dynamics::integrals::integrals`], the same operations).
+/// H, K, G of the f64 states `x` (`x[k]`: component k of each; the same operations as
+/// [`rsts_dynamics::integrals::integrals`]).
 #[inline(always)]
-pub(crate) fn integrals_f64(f: &Fields<Dd>, x: &[f64; 9]) -> [Dd; 3] {
+pub(crate) fn integrals_f64<const L: usize>(f: &Fields<Dd>, x: &[F64s<L>; 9]) -> [Lanes<L>; 3] {
     let (w1, w2, w3) = (x[0], x[1], x[2]);
-    let (alpha, beta) = (&x[3..6], &x[6..9]);
-    let big_a = [
-        f.a.mul_f64(alpha[0]),
-        f.a.mul_f64(alpha[1]),
-        f.a.mul_f64(alpha[2]),
-    ];
-    let big_b = [
-        f.b.mul_f64(beta[0]),
-        f.b.mul_f64(beta[1]),
-        f.b.mul_f64(beta[2]),
-    ];
-    let (w1s, w2s) = (prod(w1, w1), prod(w2, w2));
-    let h = w1s + w2s + half(prod(w3, w3)) - (big_a[0] + big_b[1]);
+    let (a, b) = (Lanes::splat(f.a), Lanes::splat(f.b));
+    let big_a = [a.mul_f64(x[3]), a.mul_f64(x[4]), a.mul_f64(x[5])];
+    let big_b = [b.mul_f64(x[6]), b.mul_f64(x[7]), b.mul_f64(x[8])];
+    let (w1s, w2s) = (Lanes::prod_f64(w1, w1), Lanes::prod_f64(w2, w2));
+    let h = w1s + w2s + Lanes::prod_f64(w3, w3).scale_exact(0.5) - (big_a[0] + big_b[1]);
     let kx = w1s - w2s + big_a[0] - big_b[1];
-    let ky = prod(2.0 * w1, w2) + big_a[1] + big_b[0];
+    let ky = Lanes::prod_f64(twice(w1), w2) + big_a[1] + big_b[0];
     let k = kx.sqr() + ky.sqr();
-    let m = [2.0 * w1, 2.0 * w2, w3];
+    let m = [twice(w1), twice(w2), w3];
     let ma = dot_f64_dd(&m, &big_a);
     let mb = dot_f64_dd(&m, &big_b);
-    let mab = dot_f64_dd(&m, &cross_dd(&big_a, &big_b));
-    let g = quarter(ma.sqr() + mb.sqr()) + half(mab.mul_f64(w3))
-        - f.b.sqr() * big_a[0]
-        - f.a.sqr() * big_b[1];
+    let mab = dot_f64_dd(&m, &cross(&big_a, &big_b));
+    let g = (ma.sqr() + mb.sqr()).scale_exact(0.25) + mab.mul_f64(w3).scale_exact(0.5)
+        - Lanes::splat(f.b.sqr()) * big_a[0]
+        - Lanes::splat(f.a.sqr()) * big_b[1];
     [h, k, g]
 }
 
-/// max(||α|² − 1|, ||β|² − 1|, |α·β|) of the f64 state `x` ([`State::constraint_error`]).
+/// max(||α|² − 1|, ||β|² − 1|, |α·β|) of the f64 states `x` ([`State::constraint_error`]).
 #[inline(always)]
-fn constraint_error(x: &[f64; 9]) -> Dd {
+fn constraint_error<const L: usize>(x: &[F64s<L>; 9]) -> Lanes<L> {
     let (alpha, beta) = (&x[3..6], &x[6..9]);
-    let one = Dd::ONE;
+    let one = Lanes::splat(Dd::ONE);
     let r = [
         dot_f64(alpha, alpha) - one,
         dot_f64(beta, beta) - one,
@@ -157,60 +194,72 @@ fn constraint_error(x: &[f64; 9]) -> Dd {
 /// with error ~2⁻¹⁰⁶ Σ|uᵢvᵢ| (each uᵢ.hi·vᵢ.hi exact by `two_prod`, the sum of the high parts
 /// error-free by `two_sum`, the rest — low parts and cross terms, each below 2⁻⁵³ of its
 /// product — summed in f64), at about a third of the cost of double-double products and sums.
+/// One sum per lane.
 #[derive(Clone, Copy)]
-struct ProductSum {
-    hi: f64,
-    lo: f64,
+struct ProductSum<const L: usize> {
+    hi: F64s<L>,
+    lo: F64s<L>,
 }
 
-impl ProductSum {
-    const ZERO: Self = Self { hi: 0.0, lo: 0.0 };
+impl<const L: usize> ProductSum<L> {
+    const ZERO: Self = Self {
+        hi: [0.0; L],
+        lo: [0.0; L],
+    };
 
     #[inline(always)]
-    fn add(mut self, u: Dd, v: Dd) -> Self {
-        let (p, e) = two_prod(u.hi, v.hi);
-        let (s, f) = two_sum(self.hi, p);
-        self.hi = s;
-        self.lo += f + u.hi.mul_add(v.lo, u.lo.mul_add(v.hi, e));
+    fn add(mut self, u: Lanes<L>, v: Lanes<L>) -> Self {
+        for i in 0..L {
+            let (p, e) = two_prod(u.hi[i], v.hi[i]);
+            let (s, f) = two_sum(self.hi[i], p);
+            self.hi[i] = s;
+            self.lo[i] += f + u.hi[i].mul_add(v.lo[i], u.lo[i].mul_add(v.hi[i], e));
+        }
         self
     }
 
     #[inline(always)]
-    fn sub(self, u: Dd, v: Dd) -> Self {
+    fn sub(self, u: Lanes<L>, v: Lanes<L>) -> Self {
         self.add(-u, v)
     }
 
     #[inline(always)]
-    fn value(self) -> Dd {
-        let (hi, lo) = quick_two_sum(self.hi, self.lo);
-        Dd { hi, lo }
+    fn value(self) -> Lanes<L> {
+        let mut out = Lanes::default();
+        for i in 0..L {
+            (out.hi[i], out.lo[i]) = quick_two_sum(self.hi[i], self.lo[i]);
+        }
+        out
     }
 }
 
-/// The rotation angle of R = Q Q̃ᵀ, Q of the f64 state `x` and Q̃ of the exact state, from the
-/// differences Δ = Q − Q̃ (`delta`: Δα, Δβ as measured for the state error): R − I = ΔQ̃ᵀ up to
-/// Q̃Q̃ᵀ − I (~2⁻¹⁰⁶, symmetric: none in the skew part), so the skew part of R and tr R − 3 are
-/// sums of products of the size of the angle, formed with error ~2⁻¹⁰⁶ of it
+/// The rotation angle of R = Q Q̃ᵀ, Q of the f64 states `x` and Q̃ of the exact states `y`,
+/// from the differences Δ = Q − Q̃ (`delta`: Δα, Δβ as measured for the state error): R − I =
+/// ΔQ̃ᵀ up to Q̃Q̃ᵀ − I (~2⁻¹⁰⁶, symmetric: none in the skew part), so the skew part of R and
+/// tr R − 3 are sums of products of the size of the angle, formed with error ~2⁻¹⁰⁶ of it
 /// ([`rsts_dynamics::vec3::rotation_angle`] forms the entries of R ≈ I, error 2⁻¹⁰⁶ of 1).
 #[inline(always)]
-fn orientation_error(x: &[f64; 9], exact: &State<Dd>, delta: &[Dd; 9]) -> Dd {
-    let f = Dd::from_f64_exact;
-    let (a, b) = (&exact.alpha, &exact.beta);
+pub(crate) fn orientation_error<const L: usize>(
+    x: &[F64s<L>; 9],
+    y: &[Lanes<L>; 9],
+    delta: &[Lanes<L>; 9],
+) -> Lanes<L> {
+    let (a, b) = (&y[3..6], &y[6..9]);
     let (da, db) = (&delta[3..6], &delta[6..9]);
-    let beta = [f(x[6]), f(x[7]), f(x[8])];
+    let beta = [x[6], x[7], x[8]].map(Lanes::from_f64_exact);
     // γ̃ = α̃×β̃ and Δγ = α×β − α̃×β̃ = Δα×β + α̃×Δβ (k, i, j cyclic).
-    let mut c = [Dd::ZERO; 3];
-    let mut dc = [Dd::ZERO; 3];
+    let mut c = [Lanes::default(); 3];
+    let mut dc = [Lanes::default(); 3];
     for k in 0..3 {
         let (i, j) = ((k + 1) % 3, (k + 2) % 3);
         c[k] = ProductSum::ZERO.add(a[i], b[j]).sub(a[j], b[i]).value();
         let sum = ProductSum::ZERO.add(da[i], beta[j]).sub(da[j], beta[i]);
         dc[k] = sum.add(a[i], db[j]).sub(a[j], db[i]).value();
     }
-    let q = [a, b, &c];
+    let q = [a, b, &c[..]];
     let dq = [da, db, &dc[..]];
     // The skew part s_k = R_ji − R_ij (k, i, j cyclic), R_ij − δ_ij = Δq_i·q̃_j.
-    let mut s = [Dd::ZERO; 3];
+    let mut s = [Lanes::default(); 3];
     for (k, sk) in s.iter_mut().enumerate() {
         let (i, j) = ((k + 1) % 3, (k + 2) % 3);
         let mut sum = ProductSum::ZERO;
@@ -227,36 +276,41 @@ fn orientation_error(x: &[f64; 9], exact: &State<Dd>, delta: &[Dd; 9]) -> Dd {
     for v in s {
         norm2 = norm2.add(v, v);
     }
-    let sin = half(norm2.value().sqrt());
-    let cos = Dd::ONE + half(trace.value());
+    let sin = norm2.value().sqrt().scale_exact(0.5);
+    let cos = Lanes::splat(Dd::ONE) + trace.value().scale_exact(0.5);
     small_angle(sin, cos)
 }
 
-/// atan2(sin, cos) for sin ≥ 0: for tan θ = z < 2⁻¹⁴ the series z − z³/3 + z⁵/5 − z⁷/7 + z⁹/9
-/// (z³/3 in double-double; the rest, below 2⁻⁵⁶ z, in f64 from z.hi; the next term is below
-/// 2⁻¹⁴⁰ z), otherwise by a table and a short series ([`arctangent::arctangent`]).
+/// atan2(sin, cos) for sin ≥ 0, lane by lane: for tan θ = z < 2⁻¹⁴ the series z − z³/3 +
+/// z⁵/5 − z⁷/7 + z⁹/9 (z³/3 in double-double; the rest, below 2⁻⁵⁶ z, in f64 from z.hi; the
+/// next term is below 2⁻¹⁴⁰ z), otherwise by a table and a short series
+/// ([`arctangent::arctangent`]). Each is computed only when a lane needs it.
 #[inline(always)]
-pub(crate) fn small_angle(sin: Dd, cos: Dd) -> Dd {
+pub(crate) fn small_angle<const L: usize>(sin: Lanes<L>, cos: Lanes<L>) -> Lanes<L> {
     const LIMIT: f64 = 6.103515625e-5; // 2⁻¹⁴
-    const THIRD: Dd = Dd {
-        hi: 0.3333333333333333,
-        lo: 1.850371707708594e-17,
-    };
-    if cos.hi > 0.0 && sin.hi >= 0.0 && sin.hi < LIMIT * cos.hi {
+    let mut series = [false; L];
+    for i in 0..L {
+        series[i] = (cos.hi[i] > 0.0) & (sin.hi[i] >= 0.0) & (sin.hi[i] < LIMIT * cos.hi[i]);
+    }
+    let mut angle = Lanes::default();
+    if !every_lane(series.map(|s| !s)) {
         let z = sin / cos;
         let w = z.sqr();
-        let tail = z.hi * w.hi * w.hi * (0.2 - w.hi * (1.0 / 7.0 - w.hi / 9.0));
-        (z - z * w * THIRD).add_f64(tail)
-    } else {
-        arctangent::arctangent(sin, cos)
+        let mut tail = [0.0; L];
+        for i in 0..L {
+            let (z, w) = (z.hi[i], w.hi[i]);
+            tail[i] = z * w * w * (0.2 - w * (1.0 / 7.0 - w / 9.0));
+        }
+        angle = (z - z * w * Lanes::splat(arctangent::THIRD)).add_f64(tail);
     }
+    if !every_lane(series) {
+        angle = Lanes::select(series, angle, arctangent::arctangent(sin, cos));
+    }
+    angle
 }
 
 mod arctangent;
 mod atan_table;
-mod four;
-
-pub(crate) use four::f64_sample_errors4;
 
 #[cfg(test)]
 mod tests;

@@ -12,7 +12,7 @@ use rsts_dynamics::scalar::{DoubleDouble, LANES};
 use rsts_dynamics::state::DIM;
 use rsts_dynamics::State;
 
-use super::f64_errors::{f64_sample_errors, f64_sample_errors4};
+use super::f64_errors::f64_sample_errors;
 use super::{Analysis, DdMeasure, Evaluated, Observer};
 use crate::geometry::WarmStart;
 use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
@@ -117,8 +117,8 @@ pub(super) unsafe fn measure_fma(
     measure_portable(m, exact, x, ratio, snapshots)
 }
 
-/// [`sample_errors`] and [`crate::digits::sample_errors_dd`] of one f64 sample: the one kernel
-/// of [`f64_sample_errors`] (the snapshots, when asked, from the general code).
+/// [`sample_errors`] and [`crate::digits::sample_errors_dd`] of one f64 sample: the kernel
+/// [`f64_sample_errors`] in one lane (the snapshots, when asked, from the general code).
 #[inline(always)]
 pub(super) fn measure_portable(
     m: &DdMeasure,
@@ -127,8 +127,14 @@ pub(super) fn measure_portable(
     ratio: f64,
     snapshots: bool,
 ) -> Measured {
-    let (errors, d) = f64_sample_errors(&m.fields, &m.n, &m.initial_integrals, exact, x);
-    let digits = crate::digits::of_differences(&d, &exact.to_array(), ratio);
+    let [(errors, digits)] = f64_sample_errors::<1>(
+        &m.fields,
+        &m.n,
+        &m.initial_integrals,
+        std::slice::from_ref(exact),
+        std::slice::from_ref(x),
+        ratio,
+    );
     let snapshots = if snapshots {
         let state = State::from_slice(&x.map(DoubleDouble::from_f64_exact));
         let (_, s) = sample_errors(&m.fields, &m.n, &m.initial_integrals, exact, &state, true);
@@ -205,9 +211,9 @@ unsafe fn measure_all_avx2(
     measure_all_portable(m, exact, xs, ratio, snapshots, out)
 }
 
-/// [`f64_sample_errors4`] of each group of four samples (errors and digits), the rest (and
-/// every sample when the snapshots are asked) by [`measure_portable`]. Plain loops, no
-/// closure: compiled with the caller's features.
+/// [`f64_sample_errors`] of each group of four samples in four lanes (errors and digits), the
+/// rest (and every sample when the snapshots are asked) in one lane by [`measure_portable`].
+/// Plain loops, no closure: compiled with the caller's features.
 #[inline(always)]
 fn measure_all_portable(
     m: &DdMeasure,
@@ -226,7 +232,7 @@ fn measure_all_portable(
         .chunks_exact(LANES)
         .zip(xs[..grouped].chunks_exact(LANES))
     {
-        let four = f64_sample_errors4(&m.fields, &m.n, &m.initial_integrals, e, x, ratio);
+        let four = f64_sample_errors::<LANES>(&m.fields, &m.n, &m.initial_integrals, e, x, ratio);
         for (errors, digits) in four {
             out.push(evaluated((errors, None, digits)));
         }

@@ -19,12 +19,9 @@
 // compiled without the path's features).
 #![allow(clippy::needless_range_loop)]
 
-use std::time::Instant;
-
 use crate::equations::Param;
 use crate::error::DynamicsError;
-use crate::integrators::dense::{polynomial_step, StepSamples};
-use crate::integrators::{OutputGrid, Stats, Tolerances};
+use crate::integrators::{OutputGrid, Tolerances};
 use crate::state::DIM;
 
 use super::expansion::{mul, two_sum, Acc, Lanes, Scalar};
@@ -34,7 +31,7 @@ use super::series::{
     SlotCoefficients,
 };
 use super::simd::{portable::Portable, Isa, Row8, SimdPath};
-use super::MAX_STEPS;
+use super::stepping::{run_steps, Stepper, Steps};
 
 /// A run's input in K parts: the initial state (natural order) and the fields.
 #[derive(Clone, Debug)]
@@ -46,13 +43,7 @@ pub(crate) struct FastInput<const K: usize> {
 
 /// A run's output: the states at the grid times in K parts (natural order), or with
 /// [`FastSettings::dense`] the run's own steps (rounded to f64, the start left out).
-#[derive(Clone, Debug)]
-pub(crate) struct FastOutput<const K: usize> {
-    pub times: Vec<f64>,
-    pub states: Vec<[[f64; K]; DIM]>,
-    pub steps: StepSamples,
-    pub stats: Stats,
-}
+pub(crate) type FastOutput<const K: usize> = Steps<[[f64; K]; DIM]>;
 
 /// The settings of a run.
 #[derive(Clone, Copy, Debug)]
@@ -63,7 +54,8 @@ pub(crate) struct FastSettings<'a> {
     pub grid: &'a OutputGrid,
     /// Coefficients x₁ … x_ext computed in K parts (≤ [`MAX_EXT`]).
     pub ext: usize,
-    /// `Some(k)`: sample the run's own steps, k times inside each ([`polynomial_step`]),
+    /// `Some(k)`: sample the run's own steps, k times inside each
+    /// ([`polynomial_step`](crate::integrators::dense::polynomial_step)),
     /// instead of the grid.
     pub dense: Option<usize>,
 }
@@ -180,7 +172,7 @@ fn trunc<const K: usize, const P: usize>(x: &[Row16; K]) -> [Row16; P] {
     out
 }
 
-/// The stepping loop on path `I` (see the module documentation). P + 1 = K.
+/// The lane stepper on path `I` over [`run_steps`] (see the module documentation). P + 1 = K.
 #[inline(always)]
 unsafe fn run<I: Isa, const P: usize, const K: usize>(
     layout: &Layout,
@@ -196,39 +188,76 @@ unsafe fn run<I: Isa, const P: usize, const K: usize>(
         dense,
         ..
     } = settings;
-    let Tolerances { rtol, atol } = tolerances;
     let coef = slot_coefficients::<I, K>(layout, input);
     // The extended coefficients x₁ … x_e (and the main kernel's rows 0 … e − 1, copied).
     let e = settings.ext.min(order).min(MAX_EXT);
-    let mut ext = LaneSeries::<I, K>::new(layout, &coef, e, false);
-    let mut main = LaneSeries::<I, P>::new(layout, &coef.truncate::<P>(), order, true);
-    let safety = (-0.7 / (order as f64 - 1.0)).exp() / std::f64::consts::E.powi(2);
-    let g = granularity(grid.t_end);
+    let mut stepper = LaneStepper {
+        layout,
+        ext: LaneSeries::<I, K>::new(layout, &coef, e, false),
+        main: LaneSeries::<I, P>::new(layout, &coef.truncate::<P>(), order, true),
+        state: to_lanes(layout, &input.x0),
+        t: 0.0,
+        order,
+        e,
+        tolerances,
+        safety: (-0.7 / (order as f64 - 1.0)).exp() / std::f64::consts::E.powi(2),
+        g: granularity(grid.t_end),
+    };
+    run_steps(&mut stepper, name, order, grid, dense)
+}
 
-    let start = Instant::now();
-    let mut state = to_lanes(layout, &input.x0);
-    let mut t = 0.0f64;
-    let mut stats = Stats::default();
-    let mut times = Vec::with_capacity(grid.samples);
-    let mut states = Vec::with_capacity(grid.samples);
-    let mut steps = StepSamples::default();
-    let mut next = 0;
-    while next < grid.samples {
-        if stats.accepted_steps >= MAX_STEPS {
-            return Err(DynamicsError::Integration(format!(
-                "{name}: more than {MAX_STEPS} steps before t = {}",
-                grid.time(next)
-            )));
-        }
-        // x₁ … x_e in K parts, then x_(e+1) … xₚ in P parts.
+/// The state of a lane run (K parts, lane form) at time t, and its series.
+struct LaneStepper<'a, I: Isa, const P: usize, const K: usize> {
+    layout: &'a Layout,
+    /// x₁ … x_e in K parts.
+    ext: LaneSeries<I, K>,
+    /// x_(e+1) … xₚ in P parts (rows 0 … e copied from `ext`).
+    main: LaneSeries<I, P>,
+    state: [Row16; K],
+    /// A multiple of `g`: an exact f64.
+    t: f64,
+    order: usize,
+    /// Coefficients in K parts ([`FastSettings::ext`], at most the order).
+    e: usize,
+    tolerances: Tolerances,
+    /// e^(−0.7/(p − 1))/e², Jorba–Zou's safety factor.
+    safety: f64,
+    /// The time granularity ([`granularity`]).
+    g: f64,
+}
+
+impl<I: Isa, const P: usize, const K: usize> LaneStepper<'_, I, P, K> {
+    /// The state at time `t` inside the step (τ = t − self.t exactly, in two parts).
+    #[inline(always)]
+    unsafe fn evaluate_at(&self, t: f64) -> [[f64; K]; DIM] {
+        let (tau, tau_lo) = two_sum::<Scalar<I>>(t, -self.t);
+        let (main, ext, state) = (&self.main, &self.ext, &self.state);
+        let x = evaluate::<I, P, K>(main, ext, state, [tau, tau_lo], self.order, self.e);
+        from_lanes(self.layout, &x)
+    }
+}
+
+impl<I: Isa, const P: usize, const K: usize> Stepper for LaneStepper<'_, I, P, K> {
+    type State = [[f64; K]; DIM];
+
+    #[inline(always)]
+    fn now(&self) -> f64 {
+        self.t
+    }
+
+    /// x₁ … x_e in K parts, then x_(e+1) … xₚ in P parts.
+    #[inline(always)]
+    unsafe fn coefficients(&mut self) {
+        let (e, order) = (self.e, self.order);
+        let (main, ext) = (&mut self.main, &mut self.ext);
         if e == 0 {
-            main.set(0, &trunc(&state));
+            main.set(0, &trunc(&self.state));
             main.advance(0, order);
         } else {
-            ext.set(0, &state);
+            ext.set(0, &self.state);
             ext.advance(0, e);
             for m in 0..e {
-                main.copy_from(m, &ext);
+                main.copy_from(m, ext);
             }
             if order > e {
                 main.set(e, &trunc(&ext.x[e]));
@@ -237,82 +266,62 @@ unsafe fn run<I: Isa, const P: usize, const K: usize>(
                 main.x[e] = trunc(&ext.x[e]);
             }
         }
-        stats.accepted_steps += 1;
-        stats.rhs_evals += order as u64 + 1;
+    }
 
-        // Jorba–Zou step, rounded down to a multiple of g.
-        let x_norm = I::max_abs(I::load(&state[0].q)).max(I::max_abs(I::load(&state[0].n)));
+    /// Jorba–Zou's step.
+    #[inline(always)]
+    unsafe fn step(&self) -> f64 {
+        let Tolerances { rtol, atol } = self.tolerances;
+        let order = self.order;
+        let row = &self.state[0];
+        let x_norm = I::max_abs(I::load(&row.q)).max(I::max_abs(I::load(&row.n)));
         let ln_x = if rtol * x_norm > atol {
             x_norm.ln()
         } else {
             0.0
         };
-        let (n1, n2) = (main.norm(order - 1), main.norm(order));
+        let (n1, n2) = (self.main.norm(order - 1), self.main.norm(order));
         // min(ρ_{p−1}, ρ_p) with one exp (exp is monotonic: the same value).
         let e1 = (ln_x - n1.ln()) / (order - 1) as f64;
         let e2 = (ln_x - n2.ln()) / order as f64;
         let rho = e1.min(e2).exp();
-        let mut h = rho * safety;
-        if !h.is_finite() {
-            // All coefficients vanish (an equilibrium): one step to the end.
-            h = (grid.t_end - t).max(g);
-        }
-        h = (h / g).floor() * g;
-        if h.is_nan() || h <= 1e-15 * t.abs() || h <= 0.0 {
-            return Err(DynamicsError::Integration(format!(
-                "{name}: step size {h:e} too small at t = {t} (singular solution?)"
-            )));
-        }
-
-        if let Some(k) = dense {
-            // The step's own samples; its end t + h is exact, so τ = h there: the state the
-            // update below computes.
-            let (samples, last) = polynomial_step(t, h, grid.t_end, k);
-            for (ts, end) in samples {
-                let (tau, tau_lo) = two_sum::<Scalar<I>>(ts, -t);
-                let x = from_lanes(
-                    layout,
-                    &evaluate::<I, P, K>(&main, &ext, &state, [tau, tau_lo], order, e),
-                );
-                let y: [f64; DIM] = std::array::from_fn(|i| x[i].iter().rev().sum());
-                steps.push_step_sample(name, ts, y, end)?;
-            }
-            steps.check_size(name)?;
-            if last {
-                break;
-            }
-        }
-        // Dense output at the grid times inside [t, t + h].
-        let t_step_end = t + h;
-        while dense.is_none() && next < grid.samples && grid.time(next) <= t_step_end {
-            let tg = grid.time(next);
-            let (tau, tau_lo) = two_sum::<Scalar<I>>(tg, -t);
-            let x = from_lanes(
-                layout,
-                &evaluate::<I, P, K>(&main, &ext, &state, [tau, tau_lo], order, e),
-            );
-            if x.iter().any(|c| !c[0].is_finite()) {
-                return Err(DynamicsError::Integration(format!(
-                    "{name}: solution not finite at t = {tg}"
-                )));
-            }
-            times.push(tg);
-            states.push(x);
-            next += 1;
-        }
-        if next == grid.samples {
-            break;
-        }
-        state = evaluate::<I, P, K>(&main, &ext, &state, [h, 0.0], order, e);
-        t += h;
+        rho * self.safety
     }
-    stats.integration_seconds = start.elapsed().as_secs_f64();
-    Ok(FastOutput {
-        times,
-        states,
-        steps,
-        stats,
-    })
+
+    #[inline(always)]
+    fn least_step(&self) -> f64 {
+        self.g
+    }
+
+    /// Rounded down to a multiple of g: every time stays an exact f64.
+    #[inline(always)]
+    fn rounded(&self, h: f64) -> f64 {
+        (h / self.g).floor() * self.g
+    }
+
+    #[inline(always)]
+    unsafe fn state_at(&mut self, t: f64) -> [[f64; K]; DIM] {
+        self.evaluate_at(t)
+    }
+
+    /// The step end t + h is exact, so τ = h there: the state [`Stepper::advance`] computes.
+    #[inline(always)]
+    unsafe fn state_at_f64(&mut self, t: f64) -> [f64; DIM] {
+        let x = self.evaluate_at(t);
+        std::array::from_fn(|i| x[i].iter().rev().sum())
+    }
+
+    #[inline(always)]
+    fn is_finite(x: &[[f64; K]; DIM]) -> bool {
+        x.iter().all(|c| c[0].is_finite())
+    }
+
+    #[inline(always)]
+    unsafe fn advance(&mut self, h: f64) {
+        let (main, ext) = (&self.main, &self.ext);
+        self.state = evaluate::<I, P, K>(main, ext, &self.state, [h, 0.0], self.order, self.e);
+        self.t += h;
+    }
 }
 
 #[cfg(target_arch = "x86_64")]

@@ -3,19 +3,19 @@
 //! compensated sums hi + lo (see the module [`super`] for the method).
 
 use std::any::Any;
-use std::time::Instant;
 
 use rug::Float;
 
 use crate::equations::{CauchyScratch, VectorField};
 use crate::error::DynamicsError;
-use crate::integrators::dense::{polynomial_step, StepSamples};
-use crate::integrators::{OutputGrid, Problem, Solution, Stats, Tolerances};
+use crate::integrators::dense::StepSamples;
+use crate::integrators::{OutputGrid, Problem, Solution, Tolerances};
 use crate::scalar::Real;
 use crate::state::{State, DIM};
 
 use super::mp::{MpfrKernel, MpfrKernelChoice};
-use super::{Taylor, MAX_STEPS};
+use super::stepping::{run_steps, Stepper};
+use super::Taylor;
 
 /// Error-free (in f64 and MPFR) sum: s + e = a + b, s = fl(a + b).
 fn two_sum<T: Real>(a: &T, b: &T) -> (T, T) {
@@ -167,7 +167,8 @@ pub(super) fn propagate<T: Real>(
     run(taylor, field, problem, grid, None).map(|(solution, _)| solution)
 }
 
-/// The same loop sampling its own steps, `k` times inside each ([`polynomial_step`]): the
+/// The same loop sampling its own steps, `k` times inside each
+/// ([`polynomial_step`](crate::integrators::dense::polynomial_step)): the
 /// samples (rounded to f64, the start left out) appended to `out`.
 pub(super) fn propagate_steps<T: Real>(
     taylor: &Taylor,
@@ -179,8 +180,8 @@ pub(super) fn propagate_steps<T: Real>(
     run(taylor, field, problem, grid, Some(k)).map(|(_, steps)| steps)
 }
 
-/// The stepping loop: the states at the grid times, or with `dense` = `Some(k)` the run's own
-/// steps with k samples inside each.
+/// The generic stepper over [`run_steps`]: the states at the grid times, or with `dense` =
+/// `Some(k)` the run's own steps with k samples inside each.
 fn run<T: Real>(
     taylor: &Taylor,
     field: VectorField<T>,
@@ -206,122 +207,127 @@ fn run<T: Real>(
         Some(k) => k,
         None => MpfrKernelChoice::from_env().map_err(DynamicsError::Settings)?,
     };
-    let mut work = Workspace::new(field, order, &like, kernel);
-    let Tolerances { rtol, atol } = taylor.tolerances;
-    let safety = (-0.7 / (order as f64 - 1.0)).exp() / std::f64::consts::E.powi(2);
-
-    let start = Instant::now();
-    let mut state: Vec<Compensated<T>> = x0
-        .into_iter()
-        .map(|x| Compensated::new(x, taylor.compensated))
-        .collect();
-    let mut t = Compensated::new(like.zero_like(), taylor.compensated);
-    let mut stats = Stats::default();
-    let mut times = Vec::with_capacity(grid.samples);
-    let mut states = Vec::with_capacity(grid.samples);
-    let mut steps = StepSamples::default();
-    let mut next = 0;
-    let mut inc: [T; DIM] = std::array::from_fn(|_| like.zero_like());
-    while next < grid.samples {
-        if stats.accepted_steps >= MAX_STEPS {
-            return Err(DynamicsError::Integration(format!(
-                "{name}: more than {MAX_STEPS} steps before t = {}",
-                grid.time(next)
-            )));
-        }
-        work.coefficients(&state);
-        stats.accepted_steps += 1;
-        stats.rhs_evals += order as u64 + 1;
-
-        // Jorba–Zou step (or the fixed one).
-        let t_now = t.value().to_f64();
-        let mut h = match taylor.fixed {
-            Some(fixed) => fixed.step,
-            None => {
-                let ln_x = {
-                    let mut norm = state[0].hi.abs();
-                    for x in &state[1..] {
-                        norm = norm.max_of(x.hi.abs());
-                    }
-                    let n = norm.to_f64();
-                    if rtol * n > atol {
-                        n.ln()
-                    } else {
-                        0.0
-                    }
-                };
-                let rho = [order - 1, order]
-                    .into_iter()
-                    .map(|m| ((ln_x - work.ln_norm(m)) / m as f64).exp())
-                    .fold(f64::INFINITY, f64::min);
-                rho * safety
-            }
-        };
-        if !h.is_finite() {
-            // All coefficients vanish (an equilibrium): one step to the end.
-            h = (grid.t_end - t_now).max(f64::MIN_POSITIVE);
-        }
-        if h.is_nan() || h <= 1e-15 * t_now.abs() || h <= 0.0 {
-            return Err(DynamicsError::Integration(format!(
-                "{name}: step size {h:e} too small at t = {t_now} (singular solution?)"
-            )));
-        }
-
-        if let Some(k) = dense {
-            // The step's own samples, each at its f64 time (t is kept to more than f64: at
-            // the step end τ differs from h by the rounding of t + h to f64).
-            let (samples, last) = polynomial_step(t_now, h, grid.t_end, k);
-            for (ts, end) in samples {
-                let tau = (like.lit(ts) - &t.hi) - &t.lo;
-                work.increment(&tau, &mut inc);
-                let y: [f64; DIM] = std::array::from_fn(|i| {
-                    (state[i].hi.clone() + (state[i].lo.clone() + &inc[i])).to_f64()
-                });
-                steps.push_step_sample(name, ts, y, end)?;
-            }
-            steps.check_size(name)?;
-            if last {
-                break;
-            }
-        }
-        // Dense output at the grid times inside [t, t + h].
-        let t_step_end = t_now + h;
-        while dense.is_none() && next < grid.samples && grid.time(next) <= t_step_end {
-            let tg = grid.time(next);
-            let tau = (like.lit(tg) - &t.hi) - &t.lo;
-            work.increment(&tau, &mut inc);
-            let x: Vec<T> = state
-                .iter()
-                .zip(&inc)
-                .map(|(s, d)| s.hi.clone() + (s.lo.clone() + d))
-                .collect();
-            if x.iter().any(|v| !v.is_finite()) {
-                return Err(DynamicsError::Integration(format!(
-                    "{name}: solution not finite at t = {tg}"
-                )));
-            }
-            times.push(tg);
-            states.push(State::from_slice(&x));
-            next += 1;
-        }
-        if next == grid.samples {
-            break;
-        }
-
-        // Compensated update of the state and the time.
-        let h_t = like.lit(h);
-        work.increment(&h_t, &mut inc);
-        for (s, d) in state.iter_mut().zip(&inc) {
-            s.add(d);
-        }
-        t.add(&h_t);
-    }
-    stats.integration_seconds = start.elapsed().as_secs_f64();
+    let mut stepper = GenericStepper {
+        work: Workspace::new(field, order, &like, kernel),
+        taylor,
+        safety: (-0.7 / (order as f64 - 1.0)).exp() / std::f64::consts::E.powi(2),
+        state: x0
+            .into_iter()
+            .map(|x| Compensated::new(x, taylor.compensated))
+            .collect(),
+        t: Compensated::new(like.zero_like(), taylor.compensated),
+        inc: std::array::from_fn(|_| like.zero_like()),
+        like,
+    };
+    // SAFETY: the generic stepper needs no CPU feature beyond the build's.
+    let out = unsafe { run_steps(&mut stepper, name, order, &grid, dense)? };
     let solution = Solution {
         method: name,
-        times,
-        states,
-        stats,
+        times: out.times,
+        states: out.states,
+        stats: out.stats,
     };
-    Ok((solution, steps))
+    Ok((solution, out.steps))
+}
+
+/// The state and the time of a generic run, kept as compensated sums.
+struct GenericStepper<'a, T> {
+    work: Workspace<T>,
+    taylor: &'a Taylor,
+    /// e^(−0.7/(p − 1))/e², Jorba–Zou's safety factor.
+    safety: f64,
+    state: Vec<Compensated<T>>,
+    t: Compensated<T>,
+    /// Σ_{k≥1} x_k τ^k of the last evaluation.
+    inc: [T; DIM],
+    /// A number of the run's precision (for constants).
+    like: T,
+}
+
+impl<T: Real> GenericStepper<'_, T> {
+    /// The polynomial's increment at time `t` (τ = t − (t.hi + t.lo)) into `inc`.
+    fn increment_at(&mut self, t: f64) {
+        let tau = (self.like.lit(t) - &self.t.hi) - &self.t.lo;
+        self.work.increment(&tau, &mut self.inc);
+    }
+}
+
+impl<T: Real> Stepper for GenericStepper<'_, T> {
+    type State = State<T>;
+
+    fn now(&self) -> f64 {
+        self.t.value().to_f64()
+    }
+
+    unsafe fn coefficients(&mut self) {
+        self.work.coefficients(&self.state);
+    }
+
+    /// Jorba–Zou's step (or the fixed one).
+    unsafe fn step(&self) -> f64 {
+        if let Some(fixed) = self.taylor.fixed {
+            return fixed.step;
+        }
+        let Tolerances { rtol, atol } = self.taylor.tolerances;
+        let ln_x = {
+            let mut norm = self.state[0].hi.abs();
+            for x in &self.state[1..] {
+                norm = norm.max_of(x.hi.abs());
+            }
+            let n = norm.to_f64();
+            if rtol * n > atol {
+                n.ln()
+            } else {
+                0.0
+            }
+        };
+        let order = self.work.order;
+        let rho = [order - 1, order]
+            .into_iter()
+            .map(|m| ((ln_x - self.work.ln_norm(m)) / m as f64).exp())
+            .fold(f64::INFINITY, f64::min);
+        rho * self.safety
+    }
+
+    fn least_step(&self) -> f64 {
+        f64::MIN_POSITIVE
+    }
+
+    fn rounded(&self, h: f64) -> f64 {
+        h
+    }
+
+    unsafe fn state_at(&mut self, t: f64) -> State<T> {
+        self.increment_at(t);
+        let x: Vec<T> = self
+            .state
+            .iter()
+            .zip(&self.inc)
+            .map(|(s, d)| s.hi.clone() + (s.lo.clone() + d))
+            .collect();
+        State::from_slice(&x)
+    }
+
+    /// Each sample at its f64 time (t is kept to more than f64: at the step end τ differs
+    /// from h by the rounding of t + h to f64).
+    unsafe fn state_at_f64(&mut self, t: f64) -> [f64; DIM] {
+        self.increment_at(t);
+        let (state, inc) = (&self.state, &self.inc);
+        std::array::from_fn(|i| (state[i].hi.clone() + (state[i].lo.clone() + &inc[i])).to_f64())
+    }
+
+    fn is_finite(x: &State<T>) -> bool {
+        let mut all = x.omega.iter().chain(&x.alpha).chain(&x.beta);
+        all.all(|v| v.is_finite())
+    }
+
+    /// The compensated update of the state and the time.
+    unsafe fn advance(&mut self, h: f64) {
+        let h_t = self.like.lit(h);
+        self.work.increment(&h_t, &mut self.inc);
+        for (s, d) in self.state.iter_mut().zip(&self.inc) {
+            s.add(d);
+        }
+        self.t.add(&h_t);
+    }
 }

@@ -24,10 +24,11 @@
 //! compensation. No step is ever rejected.
 //!
 //! **Files**: `mod.rs` (this: the method's settings, order rule, dispatch by scalar),
-//! `generic.rs` (the stepper written once over any [`Real`]: the path of every scalar without a
-//! dedicated kernel), `mp.rs` (the limb-level coefficient kernel of taylor-mp, which the
-//! generic stepper calls for MPFR scalars), `fast.rs` (the stepper of taylor-f64 and taylor-dd
-//! on the lane kernel), `lanes.rs` (those two methods on it: code path, extended orders, the
+//! `stepping.rs` (the stepping loop written once: grid, dense samples, step checks, statistics),
+//! `generic.rs` (the stepper over any [`Real`]: the path of every scalar without a dedicated
+//! kernel), `mp.rs` (the limb-level coefficient kernel of taylor-mp, which the generic stepper
+//! calls for MPFR scalars), `fast.rs` (the stepper of taylor-f64 and taylor-dd on the lane
+//! kernel), `lanes.rs` (those two methods on it: code path, extended orders, the
 //! state in f64 parts, the solution), `layout.rs`, `series.rs`, `expansion.rs` (the lane layout generated
 //! from the table, the lane Cauchy sums, f64 expansion arithmetic) and `simd/` (the code paths
 //! picked at run time: AVX-512, AVX2+FMA, portable; `RSTS_SIMD`).
@@ -40,6 +41,7 @@ mod layout;
 mod mp;
 mod series;
 pub mod simd;
+mod stepping;
 #[cfg(test)]
 mod tests;
 

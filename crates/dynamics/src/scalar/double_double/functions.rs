@@ -5,12 +5,13 @@
 //!   nine squarings, scaling by 2^m;
 //! * `sin`, `cos`: reduction by n·π/16 (π/16 in three parts, exact products; a table of sin,
 //!   cos kπ/16, |k| ≤ 4, and the quadrant by symmetry), Taylor polynomials of sin and cos on
-//!   |t| ≤ π/32;
+//!   |t| ≤ π/32 (written once over the lane count in `lanes.rs`, here in one lane);
 //! * `ln`, `atan2`: one Newton step from the `f64` value (the error squares: 53 → 106 bits);
 //!   `ln` near 1 is accurate to ~1e-32 absolutely rather than relatively.
 
 use rug::Float;
 
+use super::lanes::DoubleDoubleLanes;
 use super::{DoubleDouble, LN2, MPFR_BITS, PI, SERIES_CUTOFF};
 
 /// 2π to 106 bits (π's parts doubled, exactly).
@@ -20,45 +21,6 @@ pub(super) const TWO_PI: DoubleDouble = DoubleDouble {
 };
 
 impl DoubleDouble {
-    /// (sin t, cos t) for |t| ≤ π/32, rotated by kπ/16 (|k| ≤ 4): sin t and cos t by their
-    /// Taylor polynomials to t¹⁹ and t¹⁸ (Horner in t², coefficients 1/n! to 106 bits, the terms
-    /// from t¹¹ and t¹⁰ on in f64; two independent chains, no square root), then the angle-sum
-    /// formulas with sin, cos of kπ/16 from a table (QD's method). No sum here cancels (each
-    /// one's smaller addend is below half the larger: |sin(π/16)cos(π/32)| > 2·|cos(π/16)sin(π/32)|),
-    /// so they are [`Self::add_no_cancel`].
-    #[inline(always)]
-    pub(super) fn sin_cos_reduced(t: Self, k: f64) -> (Self, Self) {
-        let tables = sin_cos_tables();
-        let t2 = t.sqr();
-        let (s, c) = (&tables.inverse_factorials, &tables.inverse_even_factorials);
-        // The terms from t¹¹ on are below 1.3e-15 of the first (t⁸·3!/11! for |t| ≤ π/32):
-        // their sum in plain f64 errs by ~1e-31 of the series (t³/6), ~1e-33 of sin t; those of
-        // cos from t¹⁰ on, below 5e-15 of t²/2: ~1e-33 of cos t.
-        let (mut tail_s, mut tail_c) = (s[8].hi, c[8].hi);
-        for (sk, ck) in s[4..8].iter().zip(&c[4..8]).rev() {
-            tail_s = tail_s * t2.hi + sk.hi;
-            tail_c = tail_c * t2.hi + ck.hi;
-        }
-        let mut ps = t2.mul_f64(tail_s).add_no_cancel(s[3]);
-        let mut pc = t2.mul_f64(tail_c).add_no_cancel(c[3]);
-        for (sk, ck) in s[..3].iter().zip(&c[..3]).rev() {
-            ps = (ps * t2).add_no_cancel(*sk);
-            pc = (pc * t2).add_no_cancel(*ck);
-        }
-        let sin_t = t.add_no_cancel(t * t2 * ps);
-        let cos_t = Self::ONE.add_no_cancel(t2 * pc);
-        let j = k.abs() as usize;
-        if j == 0 {
-            return (sin_t, cos_t);
-        }
-        let (sk, ck) = tables.sin_cos_k16[j - 1];
-        let sk = if k < 0.0 { -sk } else { sk };
-        (
-            (sk * cos_t).add_no_cancel(ck * sin_t),
-            (ck * cos_t).add_no_cancel(-(sk * sin_t)),
-        )
-    }
-
     /// (sin x, cos x): x = nπ/16 + t with |t| ≤ π/32 in one reduction (π/16 in three parts,
     /// n·p₀ and n·p₁ exact: accurate to 2⁻¹⁰⁶ relative to t for |n| < 2⁵⁰), n = 8j + k with
     /// |k| ≤ 4, the quadrant j by symmetry.
@@ -78,33 +40,20 @@ impl DoubleDouble {
         Self::sin_cos_sixteenths(t, n)
     }
 
-    /// (sin, cos) of nπ/16 + t for |t| ≤ π/32: n = 8j + k with |k| ≤ 4, the quadrant j by
-    /// symmetry.
+    /// (sin, cos) of nπ/16 + t for |t| ≤ π/32: the one kernel of
+    /// [`DoubleDoubleLanes::sin_cos_turns`] in one lane.
     #[inline(always)]
     fn sin_cos_sixteenths(t: Self, n: f64) -> (Self, Self) {
-        let j = (n / 8.0).round();
-        let (s, c) = Self::sin_cos_reduced(t, n - 8.0 * j);
-        match (j.rem_euclid(4.0)) as u32 {
-            0 => (s, c),
-            1 => (c, -s),
-            2 => (-s, -c),
-            _ => (-c, s),
-        }
+        let (s, c) = DoubleDoubleLanes::<1>::sin_cos_sixteenths(t.into(), [n]);
+        (s.lane(0), c.lane(0))
     }
 
-    /// (sin 2πx, cos 2πx) for x in turns: x = n/32 + r with n = round(32x) and |r| ≤ 1/64
-    /// exactly (x.hi − n/32 is exact: both are multiples of x.hi's ulp, Sterbenz), t = 2π·r
-    /// by one product (|t| ≤ π/32, relative error a few units of 2⁻¹⁰⁶), then as
-    /// [`Self::sin_cos`]. No multiple of π is subtracted: for an angle known in turns (a phase
-    /// reduced modulo its period) this replaces the three-part reduction by one product.
+    /// (sin 2πx, cos 2πx) for x in turns: [`DoubleDoubleLanes::sin_cos_turns`] in one lane
+    /// (the reduction by one product instead of three, for an angle known in turns).
     #[inline(always)]
     pub fn sin_cos_turns(&self) -> (Self, Self) {
-        if !self.hi.is_finite() {
-            return (Self::nan(), Self::nan());
-        }
-        let n = (self.hi * 32.0).round();
-        let r = Self::sum_f64(self.hi - n / 32.0, self.lo);
-        Self::sin_cos_sixteenths(r * TWO_PI, n)
+        let (s, c) = DoubleDoubleLanes::<1>::from(*self).sin_cos_turns();
+        (s.lane(0), c.lane(0))
     }
 
     /// √x by Karp's step from the f64 reciprocal square root.

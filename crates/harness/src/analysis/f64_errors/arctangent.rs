@@ -9,7 +9,7 @@
 //! Error: a few units of 2⁻¹⁰⁶ of θ (the rounding of cb, below 2⁻¹⁰⁵ c, is below 2⁻¹⁰⁴ of
 //! θ ≥ c/2; the f64 tail's, below 2⁻⁵¹·u⁷, is below 2⁻¹⁰⁷ of θ).
 
-use rsts_dynamics::scalar::DoubleDouble as Dd;
+use rsts_dynamics::scalar::{every_lane, DoubleDouble as Dd, DoubleDoubleLanes};
 use rsts_dynamics::Real;
 
 use super::atan_table::ATAN;
@@ -31,33 +31,62 @@ pub(super) const HALF_PI: Dd = Dd {
     lo: 6.123233995736766e-17,
 };
 
-/// atan2(sin, cos) for sin ≥ 0 (see the module's text); the general double-double atan2 for
-/// a zero or non-finite argument.
+/// atan2(sin, cos) for sin ≥ 0 in each lane (see the module's text), the table's point chosen
+/// per lane; the general double-double atan2 for a lane with a zero or non-finite argument.
 #[inline(always)]
-pub(crate) fn arctangent(sin: Dd, cos: Dd) -> Dd {
+pub(crate) fn arctangent<const L: usize>(
+    sin: DoubleDoubleLanes<L>,
+    cos: DoubleDoubleLanes<L>,
+) -> DoubleDoubleLanes<L> {
+    type Lanes<const L: usize> = DoubleDoubleLanes<L>;
     let across = cos.abs();
-    let swap = sin.hi > across.hi;
-    let (a, b) = if swap { (across, sin) } else { (sin, across) };
-    if !(b.hi > 0.0 && b.hi.is_finite() && a.hi >= 0.0) {
-        return sin.atan2(&cos);
+    let mut swap = [false; L];
+    for i in 0..L {
+        swap[i] = sin.hi[i] > across.hi[i];
     }
-    // The nearest table point (a cast, not a call to the library's `round`).
-    let k = ((a.hi / b.hi * f64::from(STEPS) + 0.5) as usize).min(STEPS as usize);
-    let c = k as f64 / f64::from(STEPS);
+    let (a, b) = (
+        Lanes::select(swap, across, sin),
+        Lanes::select(swap, sin, across),
+    );
+    let (mut valid, mut k, mut c) = ([false; L], [0usize; L], [0.0; L]);
+    let mut table = Lanes::default();
+    for i in 0..L {
+        valid[i] = (b.hi[i] > 0.0) & b.hi[i].is_finite() & (a.hi[i] >= 0.0);
+        // The nearest table point (a cast, not a call to the library's `round`; 0 where the
+        // lane is not valid).
+        let nearest = if valid[i] {
+            a.hi[i] / b.hi[i] * f64::from(STEPS) + 0.5
+        } else {
+            0.0
+        };
+        k[i] = (nearest as usize).min(STEPS as usize);
+        c[i] = k[i] as f64 / f64::from(STEPS);
+        (table.hi[i], table.lo[i]) = ATAN[k[i]];
+    }
     let u = (a - b.mul_f64(c)) / (b + a.mul_f64(c));
     let w = u.sqr();
-    let w1 = w.hi;
-    let tail =
-        u.hi * w1 * w1 * w1 * (-1.0 / 7.0 + w1 * (1.0 / 9.0 - w1 * (1.0 / 11.0 - w1 / 13.0)));
-    let series = (u - u * w * (THIRD - w * FIFTH)).add_f64(tail);
-    let (hi, lo) = ATAN[k];
-    let z = Dd { hi, lo } + series;
-    let angle = if swap { HALF_PI - z } else { z };
-    if cos.hi < 0.0 {
-        Dd::PI - angle
-    } else {
-        angle
+    let mut tail = [0.0; L];
+    for i in 0..L {
+        let (u, w1) = (u.hi[i], w.hi[i]);
+        tail[i] =
+            u * w1 * w1 * w1 * (-1.0 / 7.0 + w1 * (1.0 / 9.0 - w1 * (1.0 / 11.0 - w1 / 13.0)));
     }
+    let series = (u - u * w * (Lanes::splat(THIRD) - w * Lanes::splat(FIFTH))).add_f64(tail);
+    let z = table + series;
+    let angle = Lanes::select(swap, Lanes::splat(HALF_PI) - z, z);
+    let mut behind = [false; L];
+    for i in 0..L {
+        behind[i] = cos.hi[i] < 0.0;
+    }
+    let mut angle = Lanes::select(behind, Lanes::splat(Dd::PI) - angle, angle);
+    if !every_lane(valid) {
+        for i in 0..L {
+            if !valid[i] {
+                angle.set_lane(i, sin.lane(i).atan2(&cos.lane(i)));
+            }
+        }
+    }
+    angle
 }
 
 #[cfg(test)]
@@ -116,7 +145,7 @@ mod tests {
                 low(&mut rng, r * theta.sin()),
                 low(&mut rng, r * theta.cos()),
             );
-            let got = arctangent(sin, cos).to_float(MP);
+            let got = arctangent::<1>(sin.into(), cos.into()).lane(0).to_float(MP);
             let want = sin.to_float(MP).atan2(&cos.to_float(MP));
             let error = ((got - &want) / &want).abs().to_f64();
             worst = worst.max(error);

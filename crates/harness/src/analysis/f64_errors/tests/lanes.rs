@@ -1,11 +1,12 @@
-//! The errors of four samples at once are the scalar kernel's, bit for bit, on both builds.
+//! The kernel in four lanes gives each sample the numbers of the kernel in one lane, bit for
+//! bit, on the AVX2 + FMA build and on the portable one.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rsts_closed_form::BatchPath;
 
-use super::super::tests::{dd, dd_measure, fields, on_constraints, sample};
-use super::*;
+use super::super::*;
+use super::{dd, dd_measure, fields, measured_bits, on_constraints, sample};
 use crate::analysis::f64_samples::{evaluated, measure_all_on, measure_portable};
 use crate::analysis::Evaluated;
 
@@ -42,29 +43,15 @@ fn any_sample(rng: &mut ChaCha8Rng) -> ([f64; 9], State<Dd>) {
     }
 }
 
-/// The bits of what is compared: the errors and the two digits' errors, any NaN as one (the
-/// sign of a NaN is not a number: the scalar kernel itself, inlined into two callers, gives
-/// NaNs of either sign, as x86 passes on the NaN of an addition's first operand).
+/// The bits of what is compared ([`measured_bits`]).
 fn bits(ev: &Evaluated) -> [u64; 9] {
-    let e = &ev.errors;
-    [
-        e.state_error,
-        e.orientation_error,
-        e.drift_h,
-        e.drift_k,
-        e.drift_g,
-        e.constraint_drift,
-        e.off_n,
-        ev.digits.0,
-        ev.digits.1,
-    ]
-    .map(|v| if v.is_nan() { f64::NAN } else { v }.to_bits())
+    measured_bits(&ev.errors, ev.digits)
 }
 
 /// Batches of 1 to 70 samples (groups of four and a remainder) of every kind mixed in a
-/// group, 120 000 samples in all: each sample's errors and digits are those of the scalar
-/// kernel, bit for bit, on the AVX2 build (skipped on a CPU without it) and on the portable
-/// one. Returns the number of samples compared on `path`.
+/// group, 120 000 samples in all: each sample's errors and digits in four lanes are those of
+/// the kernel in one lane, bit for bit, on the AVX2 build (skipped on a CPU without it) and
+/// on the portable one. Returns the number of samples compared on `path`.
 fn compare(path: BatchPath, seed: u64) -> usize {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut compared = 0;
@@ -83,13 +70,13 @@ fn compare(path: BatchPath, seed: u64) -> usize {
         }
         assert_eq!(out.len(), len);
         for (n, ((ev, x), e)) in out.iter().zip(&xs).zip(&exact).enumerate() {
-            let scalar = evaluated(measure_portable(&m, e, x, ratio, false));
+            let one = evaluated(measure_portable(&m, e, x, ratio, false));
             assert_eq!(
                 bits(ev),
-                bits(&scalar),
+                bits(&one),
                 "{path:?}, sample {n} of {len}: x = {x:?}\n{:?}\n{:?}",
                 ev.errors,
-                scalar.errors
+                one.errors
             );
         }
         compared += len;
@@ -98,22 +85,22 @@ fn compare(path: BatchPath, seed: u64) -> usize {
 }
 
 #[test]
-fn four_samples_at_once_give_the_scalar_kernels_bits_on_the_portable_build() {
+fn four_lanes_give_the_bits_of_one_lane_on_the_portable_build() {
     assert!(compare(BatchPath::Portable, 31) >= 100_000);
 }
 
 #[test]
-fn four_samples_at_once_give_the_scalar_kernels_bits_on_the_avx2_build() {
+fn four_lanes_give_the_bits_of_one_lane_on_the_avx2_build() {
     if compare(BatchPath::Avx2Fma, 3131) == 0 {
         rsts_io::report_skip(
-            "four_samples_at_once_give_the_scalar_kernels_bits_on_the_avx2_build",
+            "four_lanes_give_the_bits_of_one_lane_on_the_avx2_build",
             "this CPU has no AVX2 and FMA: only the portable build runs",
         );
     }
 }
 
 /// Every lane of a group is its own sample: a group of four different samples and the same
-/// samples placed at other lanes (rotated) give each sample the scalar kernel's numbers, and
+/// samples placed at other lanes (rotated) give each sample the numbers of one lane, and
 /// the four lanes differ (a kernel that copied one lane into the others fails).
 #[test]
 fn each_lane_of_a_group_is_its_own_sample() {
@@ -127,12 +114,11 @@ fn each_lane_of_a_group_is_its_own_sample() {
     let i0 = [dd(&mut rng, 0.5), dd(&mut rng, 0.7), dd(&mut rng, 0.9)];
     for _ in 0..1_000 {
         let (x, e): (Vec<[f64; 9]>, Vec<State<Dd>>) = (0..5).map(|_| sample(&mut rng, 1.0)).unzip();
-        let got = f64_sample_errors4(&f, &n, &i0, &e[..4], &x[..4], 1.0);
-        let rotated = f64_sample_errors4(&f, &n, &i0, &e[1..], &x[1..], 1.0);
+        let got = f64_sample_errors::<4>(&f, &n, &i0, &e[..4], &x[..4], 1.0);
+        let rotated = f64_sample_errors::<4>(&f, &n, &i0, &e[1..], &x[1..], 1.0);
         for i in 0..4 {
-            let (alone, d) = f64_sample_errors(&f, &n, &i0, &e[i], &x[i]);
-            let digits = crate::digits::of_differences(&d, &e[i].to_array(), 1.0);
-            assert_eq!(format!("{:?}", got[i]), format!("{:?}", (alone, digits)));
+            let [alone] = f64_sample_errors::<1>(&f, &n, &i0, &e[i..], &x[i..], 1.0);
+            assert_eq!(format!("{:?}", got[i]), format!("{:?}", alone));
             if i > 0 {
                 assert_eq!(format!("{:?}", got[i]), format!("{:?}", rotated[i - 1]));
             }
