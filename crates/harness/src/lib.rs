@@ -41,6 +41,7 @@ pub mod proportionality;
 pub mod reference;
 pub mod rounded_explicit;
 pub mod rounded_reference;
+pub mod shard;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
 pub use bench::{
