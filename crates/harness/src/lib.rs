@@ -82,6 +82,9 @@ pub enum HarnessError {
     /// CLI's options without `--`) and why.
     #[error("{1}")]
     Setting(Vec<String>, String),
+    /// Shards that do not merge into one report (`rsts bench merge`): which and why.
+    #[error("merge: {0}")]
+    Merge(String),
 }
 
 /// Largest number of samples or times a run accepts (every sample is kept in memory by some

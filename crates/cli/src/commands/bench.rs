@@ -259,6 +259,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 n,
                 seed: args.seed,
                 cameras: args.cameras.clone(),
+                shard: None,
             };
             bench_ensemble(request, &plan, &mut progress)
         }
