@@ -333,7 +333,10 @@ fn tool_available(tool: &str) -> bool {
         "node" => ok("node", &["--version"]),
         "chromium" => ok("chromium", &["--version"]),
         // A controller that would take a job now, not only the client installed.
-        "slurm" => ok("timeout", &["20", "sbatch", "--test-only", "--wrap", "true"]),
+        "slurm" => ok(
+            "timeout",
+            &["20", "sbatch", "--test-only", "--wrap", "true"],
+        ),
         _ => false,
     }
 }
@@ -860,7 +863,10 @@ fn every_documented_example_runs_as_written() {
     assert!(total > 20, "only {total} examples found");
     // Only the examples that need one tool (their blocks stand alone: scripts/ci_slurm.sh).
     if let Ok(tool) = std::env::var("RSTS_EXAMPLES_NEEDING") {
-        assert!(TOOLS.contains(&tool.as_str()), "RSTS_EXAMPLES_NEEDING={tool}: not a tool");
+        assert!(
+            TOOLS.contains(&tool.as_str()),
+            "RSTS_EXAMPLES_NEEDING={tool}: not a tool"
+        );
         for d in &mut docs {
             d.examples.retain(|e| e.needs.contains(&tool));
         }
