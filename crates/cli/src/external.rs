@@ -51,6 +51,10 @@ impl rsts_harness::bench::OutsideMethod for ExecMethod {
         "--exec".into()
     }
 
+    fn identity(&self) -> String {
+        format!("--exec {}", self.command)
+    }
+
     fn at(
         &mut self,
         tolerances: Tolerances,

@@ -25,7 +25,10 @@
 //!   PROBE_SECONDS (CARGO_PROBE_SECONDS for a cargo command) if still running (it must not fail
 //!   before); `RSTS_EXAMPLES_FULL=1` runs it to the end.
 //!
-//! Bare `scripts/test.sh` (this suite itself) is not run again from here.
+//! Bare `scripts/test.sh` (this suite itself) is not run again from here. `slurm` is there when a
+//! Slurm controller accepts a job (`sbatch --test-only`), not merely when sbatch is installed;
+//! `RSTS_EXAMPLES_NEEDING=TOOL` runs only the examples that need TOOL (scripts/ci_slurm.sh runs
+//! the Slurm ones on the Slurm that scripts/slurm_local.sh starts).
 
 use std::collections::BTreeMap;
 use std::fs;
@@ -329,7 +332,11 @@ fn tool_available(tool: &str) -> bool {
         ),
         "node" => ok("node", &["--version"]),
         "chromium" => ok("chromium", &["--version"]),
-        "slurm" => ok("sbatch", &["--version"]),
+        // A controller that would take a job now, not only the client installed.
+        "slurm" => ok(
+            "timeout",
+            &["20", "sbatch", "--test-only", "--wrap", "true"],
+        ),
         _ => false,
     }
 }
@@ -851,9 +858,23 @@ fn every_documented_example_runs_as_written() {
         return;
     }
     let full = std::env::var_os("RSTS_EXAMPLES_FULL").is_some();
-    let (docs, mut failures) = documents();
+    let (mut docs, mut failures) = documents();
     let total: usize = docs.iter().map(|d| d.examples.len()).sum();
     assert!(total > 20, "only {total} examples found");
+    // Only the examples that need one tool (their blocks stand alone: scripts/ci_slurm.sh).
+    if let Ok(tool) = std::env::var("RSTS_EXAMPLES_NEEDING") {
+        assert!(
+            TOOLS.contains(&tool.as_str()),
+            "RSTS_EXAMPLES_NEEDING={tool}: not a tool"
+        );
+        for d in &mut docs {
+            d.examples.retain(|e| e.needs.contains(&tool));
+        }
+        let left: usize = docs.iter().map(|d| d.examples.len()).sum();
+        assert!(left > 0, "no example needs {tool}");
+        eprintln!("examples: only the {left} that need {tool} (RSTS_EXAMPLES_NEEDING)");
+    }
+    let total: usize = docs.iter().map(|d| d.examples.len()).sum();
     // The longest documents first, so that the workers finish together: a command costs about
     // a second, a `# takes:` probe its probe_seconds, a build (`pip install`, `cargo run` of
     // another package's example) about a minute.
@@ -915,10 +936,14 @@ fn every_documented_example_runs_as_written() {
                 1 => String::new(),
                 n => format!(" and {} more command(s) of the document", n - 1),
             };
+            let hint = match missing.iter().any(|t| t == "slurm") {
+                true => "; slurm: no controller accepts `sbatch --test-only` (scripts/slurm_local.sh CMD starts one)",
+                false => "",
+            };
             rsts_io::report_skip(
                 &format!("example {}:{}", doc.source, first.line),
                 &format!(
-                    "needs {} (`{}`{more})",
+                    "needs {} (`{}`{more}{hint})",
                     missing.join(", "),
                     first.command.lines().next().unwrap_or("")
                 ),

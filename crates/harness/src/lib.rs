@@ -41,6 +41,7 @@ pub mod proportionality;
 pub mod reference;
 pub mod rounded_explicit;
 pub mod rounded_reference;
+pub mod shard;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
 pub use bench::{
@@ -81,6 +82,9 @@ pub enum HarnessError {
     /// CLI's options without `--`) and why.
     #[error("{1}")]
     Setting(Vec<String>, String),
+    /// Shards that do not merge into one report (`rsts bench merge`): which and why.
+    #[error("merge: {0}")]
+    Merge(String),
 }
 
 /// Largest number of samples or times a run accepts (every sample is kept in memory by some

@@ -92,6 +92,7 @@ fn each_motion_is_measured_as_a_comparison_in_one_piece() {
         n: 3,
         seed: 11,
         cameras: vec![Camera::IPlus, Camera::V, Camera::III],
+        shard: None,
     };
     let request = BenchRequest {
         case: base.clone(),
@@ -179,4 +180,246 @@ fn each_motion_is_measured_as_a_comparison_in_one_piece() {
     ] {
         assert!(json["bands"][0].get(key).is_some(), "{key}");
     }
+}
+
+/// The report's JSON without what the clock decides: the rows' times and the bands' time
+/// percentiles.
+fn without_times(report: &rsts_harness::BenchReport) -> serde_json::Value {
+    let mut v = serde_json::to_value(report).unwrap();
+    for (list, keys) in [
+        (
+            "rows",
+            &[
+                "integration_seconds",
+                "time_min",
+                "time_median",
+                "time_max",
+                "wall_seconds",
+            ][..],
+        ),
+        ("bands", &["time_p05", "time_median", "time_p95"][..]),
+    ] {
+        for item in v[list].as_array_mut().unwrap() {
+            for key in keys {
+                item.as_object_mut().unwrap().remove(*key);
+            }
+        }
+    }
+    v
+}
+
+/// A scratch directory of this test process.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "rsts-harness-ensemble-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// An ensemble of 40 motions run in 4 shards (through their JSON files, as `rsts bench merge`
+/// reads them) merges into the unsharded run's report: the same rows in the same order, fits
+/// and error bands to the bit, the time bands the percentiles of the shards' own times. A row
+/// altered after its shard was written is refused, and one altered with its digest forged
+/// makes a report that is not the unsharded one; shards of another request, binary or count,
+/// a shard missing or given twice, a whole report and an empty file are refused, naming them.
+#[test]
+fn forty_motions_in_four_shards_merge_into_the_unsharded_report() {
+    use rsts_harness::bench::{bench_merge, BenchMergeRequest, BenchReport};
+    use rsts_harness::ensemble::bands;
+    use rsts_harness::shard::{digest, Shard};
+
+    let request = |repeats: usize| BenchRequest {
+        case: Case {
+            t_end: 2.0,
+            samples: 5,
+            ..Case::default_i_plus()
+        },
+        methods: [MethodName::Dop853, MethodName::TaylorF64]
+            .map(BenchMethod::BuiltIn)
+            .into(),
+        tolerances: vec![1e-9, 1e-12],
+        repeats,
+        digits: None,
+        events: Vec::new(),
+    };
+    let plan = |shard: Option<Shard>| EnsemblePlan {
+        n: 40,
+        seed: 2013,
+        cameras: Vec::new(),
+        shard,
+    };
+    let whole = bench_ensemble(request(1), &plan(None), &mut Quiet).unwrap();
+    assert_eq!(whole.rows.len(), 40 * 4);
+    assert!(whole.shard.is_none());
+
+    let dir = scratch("shards");
+    let write = |name: &str, report: &BenchReport| {
+        let path = dir.join(name);
+        std::fs::write(&path, serde_json::to_string_pretty(report).unwrap()).unwrap();
+        path
+    };
+    let mut files = Vec::new();
+    let mut shards = Vec::new();
+    for k in 1..=4 {
+        let sh = Shard { k, n: 4 };
+        let part = bench_ensemble(request(1), &plan(Some(sh)), &mut Quiet).unwrap();
+        let motions: Vec<usize> = part.rows.iter().map(|r| r.motion.unwrap()).collect();
+        assert_eq!(motions.len(), 10 * 4, "shard {sh}: its 10 motions");
+        assert!(
+            motions.iter().all(|m| m % 4 == k - 1),
+            "shard {sh}: {motions:?}"
+        );
+        assert_eq!(part.shard.as_ref().unwrap().shard(), sh);
+        assert_eq!(
+            part.ensemble, whole.ensemble,
+            "every shard draws the whole ensemble"
+        );
+        files.push(write(&format!("shard-{k}.json"), &part));
+        shards.push(part);
+    }
+    // In any order.
+    let given = |files: Vec<std::path::PathBuf>| BenchMergeRequest { shards: files };
+    let mut reversed = files.clone();
+    reversed.reverse();
+    let merged = bench_merge(&given(reversed)).unwrap();
+    assert!(merged.notes.is_empty(), "{:?}", merged.notes);
+    let merged = merged.report;
+    assert_eq!(without_times(&merged), without_times(&whole));
+    assert_eq!(merged.labels, whole.labels);
+    assert_eq!(merged.bands.len(), 4);
+    for (m, w) in merged.bands.iter().zip(&whole.bands) {
+        assert_eq!(
+            (&m.method, m.tolerance, m.motions),
+            (&w.method, w.tolerance, 40)
+        );
+        for (x, y) in [
+            (m.error_p05, w.error_p05),
+            (m.error_median, w.error_median),
+            (m.error_p95, w.error_p95),
+        ] {
+            assert_eq!(x.to_bits(), y.to_bits(), "{m:?} against {w:?}");
+        }
+        // The time band: percentiles of the shards' own times of that method and tolerance.
+        let times: Vec<f64> = shards
+            .iter()
+            .flat_map(|s| &s.rows)
+            .filter(|r| r.method == m.method && r.tolerance == m.tolerance)
+            .map(|r| r.integration_seconds)
+            .collect();
+        assert_eq!(times.len(), 40);
+        assert_eq!(m.time_median.to_bits(), percentile(&times, 0.5).to_bits());
+        assert_eq!(m.time_p95.to_bits(), percentile(&times, 0.95).to_bits());
+    }
+    assert_eq!(merged.fits, whole.fits);
+
+    // Shard 2 altered: the row at the lower middle of dop853's 1e-9 band, one ulp up.
+    let band = &whole.bands[0];
+    let mut errors: Vec<(f64, usize)> = whole
+        .rows
+        .iter()
+        .filter(|r| r.method == band.method && r.tolerance == band.tolerance)
+        .map(|r| (r.max_error, r.motion.unwrap()))
+        .collect();
+    errors.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (_, motion) = errors[19];
+    let k = motion % 4 + 1;
+    let mut altered = shards[k - 1].clone();
+    let row = altered
+        .rows
+        .iter_mut()
+        .find(|r| {
+            r.motion == Some(motion) && r.method == band.method && r.tolerance == band.tolerance
+        })
+        .unwrap();
+    row.max_error = f64::from_bits(row.max_error.to_bits() + 1);
+    let mut with_altered = files.clone();
+    with_altered[k - 1] = write("altered.json", &altered);
+    let err = bench_merge(&given(with_altered.clone()))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains(&format!("shard {k}/4"))
+            && err.contains("altered.json")
+            && err.contains("altered afterwards"),
+        "{err}"
+    );
+    // Its digest forged to match: the merge goes through, but it is not the unsharded report.
+    let info = altered.shard.as_mut().unwrap();
+    info.rows = digest(serde_json::to_string(&altered.rows).unwrap().as_bytes());
+    with_altered[k - 1] = write("forged.json", &altered);
+    let forged = bench_merge(&given(with_altered)).unwrap().report;
+    assert_ne!(without_times(&forged), without_times(&whole));
+    assert_ne!(
+        forged.bands[0].error_median.to_bits(),
+        whole.bands[0].error_median.to_bits(),
+        "the median moved with its row"
+    );
+    assert_eq!(
+        forged.bands[1..],
+        bands(&whole.rows)[1..]
+            .iter()
+            .map(|b| {
+                let mut b = b.clone();
+                let f = forged
+                    .bands
+                    .iter()
+                    .find(|f| f.method == b.method && f.tolerance == b.tolerance)
+                    .unwrap();
+                (b.time_p05, b.time_median, b.time_p95) = (f.time_p05, f.time_median, f.time_p95);
+                b
+            })
+            .collect::<Vec<_>>()[..],
+        "the other bands are untouched"
+    );
+
+    let refused =
+        |paths: Vec<std::path::PathBuf>| bench_merge(&given(paths)).unwrap_err().to_string();
+    // Another request: shard 3 with two repeats.
+    let other = bench_ensemble(request(2), &plan(Some(Shard { k: 3, n: 4 })), &mut Quiet).unwrap();
+    let mut mixed = files.clone();
+    mixed[2] = write("other-request.json", &other);
+    let err = refused(mixed);
+    assert!(
+        err.contains("different requests") && err.contains("other-request.json"),
+        "{err}"
+    );
+    // Another binary.
+    let mut rebuilt = shards[3].clone();
+    rebuilt.environment.commit = "0123456789ab".into();
+    let mut mixed = files.clone();
+    mixed[3] = write("rebuilt.json", &rebuilt);
+    let err = refused(mixed);
+    assert!(
+        err.contains("different binaries") && err.contains("rebuilt.json"),
+        "{err}"
+    );
+    // Another count: shard 1 of 5.
+    let fifth = bench_ensemble(request(1), &plan(Some(Shard { k: 1, n: 5 })), &mut Quiet).unwrap();
+    let err = refused(vec![write("fifth.json", &fifth), files[1].clone()]);
+    assert!(err.contains("different counts"), "{err}");
+    // Missing, twice.
+    let err = refused(vec![files[0].clone(), files[1].clone(), files[3].clone()]);
+    assert!(err.contains("missing shard(s) 3/4"), "{err}");
+    let err = refused(vec![
+        files[0].clone(),
+        files[1].clone(),
+        files[1].clone(),
+        files[2].clone(),
+        files[3].clone(),
+    ]);
+    assert!(err.contains("shard 2/4 given twice"), "{err}");
+    // A whole report, an empty file, a file that is not JSON.
+    let err = refused(vec![write("whole.json", &whole)]);
+    assert!(
+        err.contains("whole.json is a whole report, not a shard"),
+        "{err}"
+    );
+    let empty = dir.join("empty.json");
+    std::fs::write(&empty, "").unwrap();
+    let err = refused(vec![files[0].clone(), empty]);
+    assert!(err.contains("empty.json: empty"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,70 +1,14 @@
 //! Shards: `K/N` takes the runs whose index in the id-sorted list is ≡ K−1 (mod N), so N machines
-//! given K = 1…N run every run exactly once, and the slice depends only on the suite.
+//! given K = 1…N run every run exactly once, and the slice depends only on the suite
+//! ([`Shard::select`] on [`crate::Suite::runs`]; the type is the harness's, shared with the
+//! shards of a benchmark's ensemble).
 
-use serde::{Deserialize, Serialize};
-
-use crate::suite::Run;
-use crate::ValidateError;
-
-/// Shard K of N (1 ≤ K ≤ N).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Shard {
-    pub k: usize,
-    pub n: usize,
-}
-
-impl std::str::FromStr for Shard {
-    type Err = ValidateError;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let bad = |why: &str| ValidateError::Usage(format!("--shard '{s}': {why}"));
-        let (k, n) = s
-            .split_once('/')
-            .ok_or_else(|| bad("expected K/N, e.g. 2/8"))?;
-        let k: usize = k
-            .trim()
-            .parse()
-            .map_err(|_| bad("K is not a whole number"))?;
-        let n: usize = n
-            .trim()
-            .parse()
-            .map_err(|_| bad("N is not a whole number"))?;
-        if n == 0 || k == 0 || k > n {
-            return Err(bad("need 1 <= K <= N"));
-        }
-        Ok(Shard { k, n })
-    }
-}
-
-impl std::fmt::Display for Shard {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}/{}", self.k, self.n)
-    }
-}
-
-impl Shard {
-    /// The runs of this shard from the id-sorted runs of a suite.
-    pub fn select(&self, runs: &[Run]) -> Vec<Run> {
-        runs.iter()
-            .enumerate()
-            .filter(|(i, _)| i % self.n == self.k - 1)
-            .map(|(_, r)| r.clone())
-            .collect()
-    }
-}
+pub use rsts_harness::shard::Shard;
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::suite::Suite;
-
-    #[test]
-    fn parses_k_of_n_and_rejects_the_rest() {
-        assert_eq!("2/8".parse::<Shard>().unwrap(), Shard { k: 2, n: 8 });
-        assert_eq!(" 1 / 1 ".parse::<Shard>().unwrap(), Shard { k: 1, n: 1 });
-        for bad in ["0/3", "4/3", "3", "a/b", "1/0", "-1/3", "", "1/2/3"] {
-            assert!(bad.parse::<Shard>().is_err(), "{bad}");
-        }
-    }
 
     #[test]
     fn shards_partition_the_runs() {

@@ -3,14 +3,16 @@
 //! (median of repeats), steps and right-hand-side evaluations; a table, JSON rows, and a
 //! log–log diagram of error against time. External integrators (`--exec`, e.g. heyoka through
 //! scripts/adapters/heyoka_adapter.py) are measured the same way and drawn dashed beside ours.
-//! The flow is [`rsts_harness::bench()`]; this parses, calls and formats.
+//! The flow is [`rsts_harness::bench()`]; this parses, calls and formats. An ensemble's shards
+//! (`--shard K/N`) and their merge (`rsts bench merge`, [`merge`]) are
+//! [`rsts_harness::bench::merge`]'s.
 
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context};
-use clap::Args as ClapArgs;
+use clap::{Args as ClapArgs, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use rsts_closed_form::Camera;
@@ -18,9 +20,11 @@ use rsts_dynamics::integrators::MethodName;
 use rsts_harness::bench::{
     bench_ensemble, bench_with_dense, diagrams, BenchObserver, BenchReport, EnsemblePlan,
 };
+use rsts_harness::shard::Shard;
 use rsts_harness::{BenchMethod, BenchRequest, Case, HarnessError};
 
 mod bands;
+mod merge;
 
 use crate::args::{case_error, count, finite_f64, CaseArgs, MethodParser};
 use crate::external::{ExecMethod, TimeoutArgs};
@@ -57,6 +61,12 @@ Examples:
   # 5–95 % band of the error and time per method and tolerance; --svg shades the bands
   rsts bench --ensemble 18 --t-end 20 --repeats 1 --svg out/wp-ensemble.svg
 
+  # the same ensemble in two shards (one per machine or task of a job array), then their merge
+  # into the report of the whole ensemble: the same rows, fits and bands (docs/benchmarks.md)
+  rsts bench --ensemble 18 --t-end 20 --repeats 1 --shard 1/2 --json out/ens-1.json
+  rsts bench --ensemble 18 --t-end 20 --repeats 1 --shard 2/2 --json out/ens-2.json
+  rsts bench merge out/ens-1.json out/ens-2.json --json out/ens.json --svg out/wp-ens.svg
+
   # any program speaking rsts-integrator/1 (docs/own-integrator.md); repeat --exec for more
   cargo build --release -p example-adapter-rk4
   rsts bench --exec target/release/example-adapter-rk4 --tolerances 1e-6,1e-8,1e-10
@@ -70,7 +80,10 @@ closed-form reference is evaluated
 
 /// Options of `rsts bench`.
 #[derive(Debug, Clone, ClapArgs)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct Args {
+    #[command(subcommand)]
+    pub merge: Option<MergeCommand>,
     #[command(flatten)]
     pub case: CaseArgs,
     /// End time T > 0
@@ -111,18 +124,6 @@ pub struct Args {
     /// columns dense_max_error and step_max_error
     #[arg(long, value_name = "K")]
     pub dense: Option<usize>,
-    /// Write the work-precision diagram (max error against seconds, log-log) to this SVG file
-    #[arg(long, value_name = "FILE")]
-    pub svg: Option<PathBuf>,
-    /// The cost the work-precision diagram draws against the error (its vertical axis):
-    /// seconds favour compiled code over a Python integrator, evaluations and steps do not.
-    /// The table shows all three
-    #[arg(long, visible_alias = "x-axis", value_enum, value_name = "COST", default_value_t = Cost::Seconds)]
-    pub cost: Cost,
-    /// Write the tolerance-proportionality diagram (max error against tolerance, log-log, with
-    /// each method's fitted C·tol^p) to this SVG file
-    #[arg(long, value_name = "FILE")]
-    pub svg_tolerance: Option<PathBuf>,
     /// Run over an ensemble of N motions (1 to 1000) drawn from the cameras (docs/benchmarks.md):
     /// --m, --h, --torus and the phases are replaced by each motion's; the table shows per method
     /// and tolerance the median and 5–95 % band of the error and time, the JSON adds the motions,
@@ -136,9 +137,43 @@ pub struct Args {
     /// IV+, IV-, V, VI; default: all nine), in turn
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = camera, requires = "ensemble")]
     pub cameras: Vec<Camera>,
+    /// Run only shard K of N of the ensemble (1 <= K <= N): the motions whose index is K-1 mod N;
+    /// its report (--json) is for `rsts bench merge`, which joins the N shards
+    #[arg(long, value_name = "K/N", requires = "ensemble")]
+    pub shard: Option<String>,
+    #[command(flatten)]
+    pub output: Outputs,
+}
+
+/// Where a benchmark's report goes: stdout in a format, and files (`rsts bench` and
+/// `rsts bench merge` alike).
+#[derive(Debug, Clone, ClapArgs)]
+pub struct Outputs {
+    /// Write the work-precision diagram (max error against seconds, log-log) to this SVG file
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
+    /// The cost the work-precision diagram draws against the error (its vertical axis):
+    /// seconds favour compiled code over a Python integrator, evaluations and steps do not.
+    /// The table shows all three
+    #[arg(long, visible_alias = "x-axis", value_enum, value_name = "COST", default_value_t = Cost::Seconds)]
+    pub cost: Cost,
+    /// Write the tolerance-proportionality diagram (max error against tolerance, log-log, with
+    /// each method's fitted C·tol^p) to this SVG file
+    #[arg(long, value_name = "FILE")]
+    pub svg_tolerance: Option<PathBuf>,
+    /// Write the JSON report (that of --format json) to this file too, whole or not at all
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
     /// Output format
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
+}
+
+#[derive(Debug, Clone, Subcommand)]
+pub enum MergeCommand {
+    /// Join the shards of an ensemble (`rsts bench --ensemble N --shard K/N --json FILE`) into
+    /// the report of the whole ensemble
+    Merge(merge::Args),
 }
 
 /// A camera label of Table 1.
@@ -198,6 +233,9 @@ impl BenchObserver for Progress {
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
+    if let Some(MergeCommand::Merge(m)) = args.merge {
+        return merge::run(m, out);
+    }
     let case = args.case();
     let specs = crate::commands::events::parse_specs(&args.event)?;
     if let Some(e) = args.max_event_error {
@@ -205,13 +243,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             bail!("--max-event-error: must be non-negative, got {e}");
         }
     }
-    if let Some(path) = &args.svg {
-        rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
-    }
-    if let Some(path) = &args.svg_tolerance {
-        rsts_io::check_writable(path)
-            .with_context(|| format!("--svg-tolerance {}", path.display()))?;
-    }
+    let shard: Option<Shard> = args
+        .shard
+        .as_deref()
+        .map(str::parse)
+        .transpose()
+        .map_err(case_error)?;
+    args.output.check(&[])?;
     let default_methods = [MethodName::Dop853, MethodName::TaylorF64];
     let given = match &args.methods {
         Some(m) => m.as_slice(),
@@ -259,6 +297,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 n,
                 seed: args.seed,
                 cameras: args.cameras.clone(),
+                shard,
             };
             bench_ensemble(request, &plan, &mut progress)
         }
@@ -267,43 +306,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     .map_err(case_error)?;
     progress.bar.finish_and_clear();
 
-    if let Some(path) = &args.svg {
-        let cost = diagrams::Cost::from(args.cost);
-        for label in cost.left_out(&report) {
-            eprintln!(
-                "note: --svg: {label} left out of the diagram: its {} are not known",
-                cost.name()
-            );
-        }
-        let chart = diagrams::work_precision(&report, cost);
-        let svg = rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg: {e}"))?;
-        rsts_io::write_atomic(path, svg.as_bytes())
-            .with_context(|| format!("--svg {}", path.display()))?;
-        eprintln!("work-precision diagram: {}", path.display());
-    }
-    if let Some(path) = &args.svg_tolerance {
-        let chart = diagrams::tolerance_proportionality(&report);
-        let svg = rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg-tolerance: {e}"))?;
-        rsts_io::write_atomic(path, svg.as_bytes())
-            .with_context(|| format!("--svg-tolerance {}", path.display()))?;
-        eprintln!("tolerance-proportionality diagram: {}", path.display());
-    }
-    match args.format {
-        Format::Json => output::write_json(out, &report)?,
-        Format::Csv => output::write_records_csv(out, &report.rows)?,
-        Format::Table if report.ensemble.is_some() => bands::write_table(out, &report)?,
-        Format::Table => {
-            let case = &report.case;
-            writeln!(
-                out,
-                "a = {}, b = {}, m = {}, h = {}, torus {}, T = {}, {} samples; time: median of {} runs",
-                case.motion.a, case.motion.b, case.motion.m, case.motion.h, case.motion.torus, case.t_end, case.samples, report.repeats
-            )?;
-            writeln!(out, "{}", report.environment.describe())?;
-            output::write_table(out, &table(&report))?;
-            write_fits(out, &report, "")?;
-        }
-    }
+    args.output.write(&report, out)?;
     if let Some(limit) = args.max_event_error {
         for (row, l) in report.rows.iter().zip(&report.labels) {
             if let Some(why) = row.events.and_then(|ev| ev.failure(limit)) {
@@ -317,6 +320,88 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+impl Outputs {
+    /// Refuse at once an output file that cannot be written or that is one of `inputs`.
+    fn check(&self, inputs: &[PathBuf]) -> anyhow::Result<()> {
+        for (option, path) in [
+            ("--svg", &self.svg),
+            ("--svg-tolerance", &self.svg_tolerance),
+            ("--json", &self.json),
+        ] {
+            let Some(path) = path else { continue };
+            if let Some(input) = inputs.iter().find(|i| same_file(i, path)) {
+                bail!(
+                    "{option} {}: that is the input {}, which would be lost; give another file",
+                    path.display(),
+                    input.display()
+                );
+            }
+            rsts_io::check_writable(path)
+                .with_context(|| format!("{option} {}", path.display()))?;
+        }
+        Ok(())
+    }
+
+    /// The diagrams and the JSON file (each written whole), then the report on `out`.
+    fn write(&self, report: &BenchReport, out: &mut dyn Write) -> anyhow::Result<()> {
+        if let Some(path) = &self.svg {
+            let cost = diagrams::Cost::from(self.cost);
+            for label in cost.left_out(report) {
+                eprintln!(
+                    "note: --svg: {label} left out of the diagram: its {} are not known",
+                    cost.name()
+                );
+            }
+            let chart = diagrams::work_precision(report, cost);
+            let svg = rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg: {e}"))?;
+            rsts_io::write_atomic(path, svg.as_bytes())
+                .with_context(|| format!("--svg {}", path.display()))?;
+            eprintln!("work-precision diagram: {}", path.display());
+        }
+        if let Some(path) = &self.svg_tolerance {
+            let chart = diagrams::tolerance_proportionality(report);
+            let svg =
+                rsts_plots::render_svg(&chart).map_err(|e| anyhow!("--svg-tolerance: {e}"))?;
+            rsts_io::write_atomic(path, svg.as_bytes())
+                .with_context(|| format!("--svg-tolerance {}", path.display()))?;
+            eprintln!("tolerance-proportionality diagram: {}", path.display());
+        }
+        if let Some(path) = &self.json {
+            let mut json = Vec::new();
+            output::write_json(&mut json, report)?;
+            rsts_io::write_atomic(path, &json)
+                .with_context(|| format!("--json {}", path.display()))?;
+            eprintln!("report: {}", path.display());
+        }
+        match self.format {
+            Format::Json => output::write_json(out, report)?,
+            Format::Csv => output::write_records_csv(out, &report.rows)?,
+            Format::Table if report.ensemble.is_some() => bands::write_table(out, report)?,
+            Format::Table => {
+                let case = &report.case;
+                writeln!(
+                    out,
+                    "a = {}, b = {}, m = {}, h = {}, torus {}, T = {}, {} samples; time: median of {} runs",
+                    case.motion.a, case.motion.b, case.motion.m, case.motion.h, case.motion.torus, case.t_end, case.samples, report.repeats
+                )?;
+                writeln!(out, "{}", report.environment.describe())?;
+                output::write_table(out, &table(report))?;
+                write_fits(out, report, "")?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Whether `a` and `b` name the same existing file (the same device and inode).
+fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => (x.dev(), x.ino()) == (y.dev(), y.ino()),
+        _ => false,
+    }
 }
 
 /// A line `fit METHOD{qualifier}: …` per tolerance fit.

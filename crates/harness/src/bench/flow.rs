@@ -10,8 +10,9 @@
 use std::collections::btree_map::{BTreeMap, Entry};
 
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Tolerances, MAX_MP_DIGITS};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
+use super::merge::{request_digest, EnsembleShard};
 use super::request::{BenchIntegrator, BenchMethod, BenchObserver, BenchRequest, EnsemblePlan};
 use super::{measure_against, measure_integrator, run_once, BenchRow, Reference};
 use crate::compare::{preflight, reference_bits, reference_bits_for};
@@ -29,8 +30,9 @@ pub const MAX_REPEATS: usize = 1000;
 /// Most steps of a whole benchmark (every method, tolerance and repeat), as estimated up front.
 pub const MAX_TOTAL_STEPS: f64 = 2e9;
 
-/// How a row is labelled and drawn (not serialised: the rows carry the method's name).
-#[derive(Clone, Debug, PartialEq)]
+/// How a row is labelled and drawn (serialised only in a shard of an ensemble, for its merge:
+/// the rows carry the method's name).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RowLabel {
     /// taylor-mp with its digits (`taylor-mp-40d`), else the method's name.
     pub label: String,
@@ -39,8 +41,9 @@ pub struct RowLabel {
 }
 
 /// The report of a benchmark: the JSON of `rsts bench` (the case, the settings, the rows of the
-/// built-in methods then those from outside, the fits, the environment).
-#[derive(Clone, Debug, Serialize)]
+/// built-in methods then those from outside, the fits, the environment). Read back (a shard of
+/// an ensemble, for [`merge_shards`](super::merge_shards)) it is the same report.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct BenchReport {
     pub case: Case,
     pub repeats: usize,
@@ -56,9 +59,13 @@ pub struct BenchReport {
     pub fits: Vec<ToleranceFit>,
     /// Per method and tolerance of an ensemble, the median and 5–95 % band of the error and
     /// the time over the motions.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub bands: Vec<Band>,
     pub environment: Environment,
+    /// A shard of an ensemble (`--shard K/N`): which, of what request, and its rows' labels;
+    /// its rows, fits and bands are those of its motions alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<EnsembleShard>,
     /// One per row.
     #[serde(skip)]
     pub labels: Vec<RowLabel>,
@@ -181,6 +188,10 @@ fn run(
             "give at least one method (or an --exec integrator)".into(),
         ));
     }
+    // A shard's request, for its merge (before the methods are taken apart).
+    let shard = plan.and_then(|p| Some((p.shard?, p)));
+    let digest =
+        shard.map(|(_, p)| request_digest(&case, &methods, &tolerances, repeats, digits, p));
     let ensemble = match plan {
         Some(plan) => {
             if !specs.is_empty() {
@@ -196,10 +207,14 @@ fn run(
         }
         None => None,
     };
-    // The motions run: the case itself, or each motion of the ensemble.
-    let cases: Vec<Case> = match &ensemble {
-        Some(e) => (0..e.n).map(|k| e.case(&case, k)).collect(),
-        None => vec![case.clone()],
+    // The motions run (with their index in the ensemble): the case itself, or each motion of
+    // the ensemble (of the shard's slice).
+    let cases: Vec<(usize, Case)> = match &ensemble {
+        Some(e) => (0..e.n)
+            .filter(|&k| shard.is_none_or(|(sh, _)| sh.holds(k)))
+            .map(|k| (k, e.case(&case, k)))
+            .collect(),
+        None => vec![(0, case.clone())],
     };
     let motion_of = |k: usize, e: HarnessError| match &ensemble {
         Some(en) => {
@@ -283,7 +298,8 @@ fn run(
     }
     // Every job is checked (the point, the step budget) before any runs, the whole bench too.
     let mut total_steps = 0.0;
-    for (k, case) in cases.iter().enumerate() {
+    for (k, case) in &cases {
+        let k = *k;
         for job in &jobs {
             if let Job::BuiltIn(config) = job {
                 preflight(case, config).map_err(|e| motion_of(k, e))?;
@@ -315,7 +331,8 @@ fn run(
     let mut rows: Vec<BenchRow> = Vec::new();
     let mut labels: Vec<RowLabel> = Vec::new();
     let mut environment = Environment::detect();
-    for (k, case) in cases.iter().enumerate() {
+    for (k, case) in &cases {
+        let k = *k;
         // One reference per precision and motion.
         let mut references: BTreeMap<u32, Reference> = BTreeMap::new();
         let mut reference_at = |bits: u32| -> Result<Reference, HarnessError> {
@@ -420,6 +437,9 @@ fn run(
         }
     }
     let fits = fit_tolerances(&rows);
+    let shard = shard
+        .zip(digest)
+        .map(|((sh, _), d)| EnsembleShard::new(sh, d, &rows, &labels));
     Ok(BenchReport {
         case,
         repeats,
@@ -435,6 +455,7 @@ fn run(
         rows,
         fits,
         environment,
+        shard,
         labels,
     })
 }

@@ -11,11 +11,15 @@
 mod band_diagram;
 pub mod diagrams;
 mod flow;
+pub mod merge;
 mod request;
 
 pub use flow::{
     bench, bench_ensemble, bench_with_dense, default_mp_digits, label_of, BenchReport, RowLabel,
     MAX_BENCH_SAMPLES, MAX_REPEATS, MAX_TOTAL_STEPS,
+};
+pub use merge::{
+    bench_merge, merge_shards, read_shard, BenchMerge, BenchMergeRequest, EnsembleShard,
 };
 pub use request::{
     BenchIntegrator, BenchMethod, BenchObserver, BenchRequest, EnsemblePlan, OutsideMethod, Quiet,
@@ -40,6 +44,8 @@ pub struct BenchRow {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<usize>,
     pub method: String,
+    /// min(rtol, atol); NaN (`null`) for an integrator without tolerances.
+    #[serde(deserialize_with = "nan_if_null")]
     pub tolerance: f64,
     /// max over samples and the nine components (ω, α, β) of |x − x_exact|.
     pub max_error: f64,
@@ -71,6 +77,11 @@ pub struct BenchRow {
     /// The dense-output check (`bench --dense K`; [`crate::dense`]).
     #[serde(default, flatten, skip_serializing_if = "Option::is_none")]
     pub dense: Option<crate::dense::DenseReport>,
+}
+
+/// A number written as `null` (NaN) read back as NaN.
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Option::<f64>::deserialize(d).map(|x| x.unwrap_or(f64::NAN))
 }
 
 /// The closed-form motion of a case at its sample times, at a given precision.

@@ -7,6 +7,7 @@ use rsts_closed_form::Camera;
 use rsts_dynamics::integrators::{MethodName, Tolerances};
 
 use crate::integrator::Integrator;
+use crate::shard::Shard;
 use crate::{Case, HarnessError};
 
 /// An integrator of a benchmark at one tolerance. Besides integrating, it may locate the
@@ -40,6 +41,11 @@ impl<P: rsts_dynamics::integrators::Propagator<f64>> BenchIntegrator for crate::
 pub trait OutsideMethod {
     /// How errors name it (`--exec`, the callable's name).
     fn what(&self) -> String;
+    /// What tells it from another method in the request digest of an ensemble's shards (an
+    /// `--exec` command; default: [`OutsideMethod::what`]).
+    fn identity(&self) -> String {
+        self.what()
+    }
     /// The integrator at `tolerances` (rtol = atol), its requests at `digits` decimal digits.
     fn at(
         &mut self,
@@ -90,10 +96,12 @@ pub struct Quiet;
 impl BenchObserver for Quiet {}
 
 /// An ensemble asked of a benchmark: `n` motions drawn with `seed` from `cameras` (all nine
-/// when empty), see [`crate::ensemble`].
+/// when empty), see [`crate::ensemble`]; with a `shard`, only the motions of that shard run
+/// ([`super::merge`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnsemblePlan {
     pub n: usize,
     pub seed: u64,
     pub cameras: Vec<Camera>,
+    pub shard: Option<Shard>,
 }

@@ -173,15 +173,8 @@ fn too_many_runs(runs: usize, name: &str) -> ValidateError {
     ))
 }
 
-/// FNV-1a, 64 bits.
-pub fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf29ce484222325;
-    for b in bytes {
-        h ^= *b as u64;
-        h = h.wrapping_mul(0x100000001b3);
-    }
-    h
-}
+/// FNV-1a, 64 bits (the harness's, shared with the shards of a benchmark).
+pub use rsts_harness::shard::fnv1a;
 
 /// The tolerance as it appears in a run id: `1e-12`, `2.5e-8`.
 pub fn tol_label(x: f64) -> String {

@@ -18,6 +18,17 @@ pub(super) fn write_table(out: &mut dyn Write, report: &BenchReport) -> anyhow::
         "ensemble of {} motions (seed {}): a = {}, b = {}, T = {}, {} samples; time: median of {} runs",
         e.n, e.seed, case.motion.a, case.motion.b, case.t_end, case.samples, report.repeats
     )?;
+    if let Some(sh) = &report.shard {
+        let held = e.motions.len().saturating_sub(sh.k - 1).div_ceil(sh.n);
+        writeln!(
+            out,
+            "shard {}/{}: the {held} motions whose index is {} mod {} (`rsts bench merge` joins the shards' --json reports)",
+            sh.k,
+            sh.n,
+            sh.k - 1,
+            sh.n
+        )?;
+    }
     writeln!(out, "{}", report.environment.describe())?;
     let mut t = Tabular::new(vec![
         "method",
@@ -43,12 +54,17 @@ pub(super) fn write_table(out: &mut dyn Write, report: &BenchReport) -> anyhow::
         ]);
     }
     output::write_table(out, &t)?;
-    super::write_fits(out, report, " (all motions)")?;
+    let over = match report.shard {
+        Some(_) => " (this shard's motions)",
+        None => " (all motions)",
+    };
+    super::write_fits(out, report, over)?;
     writeln!(out)?;
     let mut m = Tabular::new(vec![
         "motion", "camera", "m", "h", "torus", "phase1", "phase2",
     ]);
-    for (k, mo) in e.motions.iter().enumerate() {
+    let held = |k: usize| report.shard.as_ref().is_none_or(|sh| k % sh.n == sh.k - 1);
+    for (k, mo) in e.motions.iter().enumerate().filter(|(k, _)| held(*k)) {
         m.push(vec![
             Cell::Int(k as u64),
             Cell::Text(mo.camera.clone()),
