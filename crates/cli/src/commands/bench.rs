@@ -205,6 +205,21 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             bail!("--max-event-error: must be non-negative, got {e}");
         }
     }
+    let files: Vec<_> = args
+        .exec
+        .iter()
+        .flat_map(|c| rsts_external::command_files(c))
+        .collect();
+    let inputs: Vec<_> = files.iter().map(|f| ("--exec", f.as_path())).collect();
+    let mut outputs = Vec::new();
+    outputs.extend(
+        args.svg
+            .as_deref()
+            .map(|p| rsts_io::Output::File("--svg", p)),
+    );
+    let tolerance_svg = args.svg_tolerance.as_deref();
+    outputs.extend(tolerance_svg.map(|p| rsts_io::Output::File("--svg-tolerance", p)));
+    rsts_io::check_outputs(&inputs, &outputs)?;
     if let Some(path) = &args.svg {
         rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
     }
