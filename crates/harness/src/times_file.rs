@@ -90,7 +90,6 @@ pub fn read_times(input: impl Read) -> Result<Vec<f64>, String> {
         input.consume(n);
     }
     finish(&mut word, &mut long, line)?;
-    drop(finish);
     Ok(times)
 }
 

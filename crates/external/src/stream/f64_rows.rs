@@ -133,7 +133,9 @@ impl TrajectoryReader {
             if has_previous && out_of_order.is_none() {
                 // A time given as a text that is not 0 but reads as 0.0 is checked by time_order.
                 let underflow = row.t == 0.0 && !row.t_text.is_empty();
-                if row.t > previous.t && !underflow {
+                let ordered = row.t > previous.t && !underflow;
+                if ordered {
+                    // The usual case: nothing to say.
                 } else if row.t == previous.t
                     && !underflow
                     && self.reread_if_long
