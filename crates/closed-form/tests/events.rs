@@ -164,7 +164,8 @@ fn a_near_tangent_crossing_is_two_events_and_its_neighbour_none() {
 
 /// The count `rsts events` sizes its output by before computing (one event per grid cell of a
 /// component, the turning points counted) holds with room on every camera of the quick suite:
-/// each component alone, T = 300. The largest share is printed (docs/events.md quotes it).
+/// each name alone, T = 300. The largest share of a component is printed (docs/events.md quotes
+/// it).
 #[test]
 fn the_output_estimate_bounds_the_events_found() {
     use rsts_closed_form::events::EventSearch;
@@ -190,12 +191,21 @@ fn the_output_estimate_bounds_the_events_found() {
             let search = EventSearch::new(&mo, &[spec], &t0, &t1).unwrap();
             let found = exact_events(&mo, &[spec], &t0, &t1).unwrap().len() as f64;
             let share = found / search.most_events();
-            assert!(share <= 1.0, "{m} {h} {}: {found} of {}", spec.name, search.most_events());
-            if share > worst.0 {
+            assert!(
+                share <= 1.0,
+                "{m} {h} {}: {found} of {}",
+                spec.name,
+                search.most_events()
+            );
+            // The turning points are counted, not estimated: only the components have room.
+            if spec.name.index() < 12 && share > worst.0 {
                 worst = (share, format!("m {m}, h {h}, torus {torus}, {}", spec.name));
             }
         }
     }
-    eprintln!("largest share of the estimate: {:.3} ({})", worst.0, worst.1);
+    eprintln!(
+        "largest share of the estimate for a component: {:.3} ({})",
+        worst.0, worst.1
+    );
     assert!(worst.0 < 0.9, "{worst:?}");
 }
