@@ -18,8 +18,9 @@ use serde::de::{self, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
 
 use crate::events::DetectedEvent;
 
-/// Largest events file (bytes).
-pub const MAX_DETECTED_BYTES: u64 = 256 << 20;
+/// Largest events file (bytes): what `rsts events` may write (2 GiB, one output file), read as
+/// it is. Memory does not grow with it (the file is streamed), only with the events kept.
+pub const MAX_DETECTED_BYTES: u64 = 2 << 30;
 /// Longest line of an events CSV (a line of `rsts events --digits 10000` takes 100 kB).
 pub const MAX_DETECTED_LINE_BYTES: u64 = 1 << 20;
 /// Most events one file may list.
