@@ -20,7 +20,7 @@ pub fn finite_f64(s: &str) -> Result<f64, String> {
     let x: f64 = s
         .trim()
         .parse()
-        .map_err(|_| format!("'{s}' is not a number"))?;
+        .map_err(|_| format!("'{}' is not a number", rsts_io::cut(s)))?;
     if x.is_finite() {
         Ok(x)
     } else {
@@ -38,7 +38,7 @@ pub fn decimal(s: &str) -> Result<Decimal, String> {
 pub fn count(s: &str) -> Result<usize, String> {
     s.trim()
         .parse()
-        .map_err(|_| format!("'{s}' is not a whole number (need N >= 1)"))
+        .map_err(|_| format!("'{}' is not a whole number (need N >= 1)", rsts_io::cut(s)))
 }
 
 /// Three finite numbers separated by commas, e.g. `0.3,-0.2,0.5`.

@@ -149,14 +149,133 @@ pub fn write_csv_rows(
     header: &[String],
     rows: impl Iterator<Item = Vec<Cell>>,
 ) -> io::Result<()> {
-    let names: Vec<String> = header.iter().map(|h| csv_field(h)).collect();
-    writeln!(out, "{}", names.join(","))?;
+    write_csv_header(out, header)?;
     for (r, row) in rows.enumerate() {
-        check_row(header, r, &row)?;
-        let fields: Vec<String> = row.iter().map(|c| csv_field(&c.exact())).collect();
-        writeln!(out, "{}", fields.join(","))?;
+        write_csv_row(out, header, r, &row)?;
     }
     Ok(())
+}
+
+/// The header line of a CSV written a row at a time ([`write_csv_row`]).
+pub fn write_csv_header(out: &mut dyn Write, header: &[String]) -> io::Result<()> {
+    let names: Vec<String> = header.iter().map(|h| csv_field(h)).collect();
+    writeln!(out, "{}", names.join(","))
+}
+
+/// Row `r` (0-based) of a CSV written a row at a time.
+pub fn write_csv_row(
+    out: &mut dyn Write,
+    header: &[String],
+    r: usize,
+    row: &[Cell],
+) -> io::Result<()> {
+    check_row(header, r, row)?;
+    let fields: Vec<String> = row.iter().map(|c| csv_field(&c.exact())).collect();
+    writeln!(out, "{}", fields.join(","))
+}
+
+/// Widest readable number of a table cell (`-999999.9999999999`, `-1.234567e-100`).
+pub const READABLE_WIDTH: usize = 18;
+
+/// A table written a row at a time: columns of given widths (at least their header's),
+/// right-aligned, two spaces apart; a wider cell shifts its row, nothing is cut.
+pub struct StreamedTable {
+    header: Vec<String>,
+    widths: Vec<usize>,
+    rows: usize,
+}
+
+impl StreamedTable {
+    /// Write the header and the rule.
+    pub fn start(out: &mut dyn Write, header: &[&str], widths: &[usize]) -> io::Result<Self> {
+        let widths: Vec<usize> = header
+            .iter()
+            .zip(widths)
+            .map(|(h, &w)| w.max(h.chars().count()))
+            .collect();
+        let table = Self {
+            header: header.iter().map(|h| h.to_string()).collect(),
+            widths,
+            rows: 0,
+        };
+        table.line(out, header.iter().map(|h| h.to_string()))?;
+        let total = table.widths.iter().sum::<usize>() + 2 * table.widths.len().saturating_sub(1);
+        writeln!(out, "{}", "-".repeat(total))?;
+        Ok(table)
+    }
+
+    fn line(&self, out: &mut dyn Write, items: impl Iterator<Item = String>) -> io::Result<()> {
+        let padded: Vec<String> = items
+            .zip(&self.widths)
+            .map(|(s, &w)| format!("{}{s}", " ".repeat(w.saturating_sub(s.chars().count()))))
+            .collect();
+        writeln!(out, "{}", padded.join("  "))
+    }
+
+    /// One more row.
+    pub fn row(&mut self, out: &mut dyn Write, row: &[Cell]) -> io::Result<()> {
+        check_row(&self.header, self.rows, row)?;
+        self.rows += 1;
+        self.line(out, row.iter().map(Cell::readable))
+    }
+}
+
+/// A JSON object `{"KEY": VALUE, ..., "LIST": [ITEM, ...]}` written an item at a time, byte for
+/// byte what [`write_json`] writes of the whole object (pretty, two spaces per level).
+pub struct StreamedJson {
+    items: usize,
+}
+
+/// `value` pretty-printed, its lines after the first indented by `indent` spaces.
+fn pretty_at<T: Serialize + ?Sized>(value: &T, indent: usize) -> io::Result<String> {
+    let text = serde_json::to_string_pretty(value)?;
+    Ok(text.replace('\n', &format!("\n{}", " ".repeat(indent))))
+}
+
+impl StreamedJson {
+    /// Write `{`, the fields before the list and the list's opening.
+    pub fn start(
+        out: &mut dyn Write,
+        fields: &[(&str, &dyn erased::Json)],
+        list: &str,
+    ) -> io::Result<Self> {
+        writeln!(out, "{{")?;
+        for (k, v) in fields {
+            writeln!(out, "  {}: {},", serde_json::to_string(k)?, v.pretty_at(2)?)?;
+        }
+        write!(out, "  {}: [", serde_json::to_string(list)?)?;
+        Ok(Self { items: 0 })
+    }
+
+    /// One more item of the list.
+    pub fn item<T: Serialize>(&mut self, out: &mut dyn Write, item: &T) -> io::Result<()> {
+        let sep = if self.items == 0 { "" } else { "," };
+        write!(out, "{sep}\n    {}", pretty_at(item, 4)?)?;
+        self.items += 1;
+        Ok(())
+    }
+
+    /// Close the list and the object.
+    pub fn finish(self, out: &mut dyn Write) -> io::Result<()> {
+        if self.items > 0 {
+            write!(out, "\n  ")?;
+        }
+        writeln!(out, "]\n}}")
+    }
+}
+
+/// A serialisable value behind a `dyn` (for [`StreamedJson::start`]).
+pub mod erased {
+    /// A value that can be pretty-printed at an indentation.
+    pub trait Json {
+        fn pretty_at(&self, indent: usize) -> std::io::Result<String>;
+    }
+
+    impl<T: serde::Serialize> Json for T {
+        fn pretty_at(&self, indent: usize) -> std::io::Result<String> {
+            super::pretty_at(self, indent)
+        }
+    }
 }
 
 /// Right-aligned columns separated by two spaces, a header and a rule.
@@ -337,6 +456,16 @@ pub fn write_key_values(out: &mut dyn Write, items: &[(&str, String)]) -> io::Re
         .map(|(k, _)| k.chars().count())
         .max()
         .unwrap_or(0);
+    write_key_values_at(out, items, width)
+}
+
+/// [`write_key_values`] with the values after keys of `width` characters (a block written in
+/// parts lines up as one).
+pub fn write_key_values_at(
+    out: &mut dyn Write,
+    items: &[(&str, String)],
+    width: usize,
+) -> io::Result<()> {
     for (k, v) in items {
         writeln!(out, "{:<width$}  {v}", format!("{k}:"), width = width + 1)?;
     }

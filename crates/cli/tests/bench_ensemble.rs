@@ -379,7 +379,7 @@ fn bad_merges_exit_2_naming_the_shard_and_write_nothing() {
     );
     let err = fails(&["bench", "merge", s(&one), s(&two), "--json", s(&two)]);
     assert!(
-        err.contains("--json") && err.contains("would be lost"),
+        err.contains("--json") && err.contains("would destroy the input"),
         "{err}"
     );
     assert_eq!(

@@ -1330,3 +1330,606 @@ fn d10_a_file_cut_anywhere_says_truncated_at_byte_n() {
         }
     }
 }
+
+// ---- issue 35: bounded on every input, an input never overwritten ----------------------------
+//
+// Each test below failed on the code before its fix (commit f3e7973): the memory ones ran out
+// of their address-space limit (exit 134) or ran past their guard, the others exited 0 having
+// done the wrong thing.
+
+/// `rsts reference --times 0,1 --format json`: the exact samples of the default case at 0 and
+/// 1, the samples of a correct answer to `compare --t-end 1 --samples 2`.
+fn exact_samples() -> Value {
+    let out = rsts(&["reference", "--times", "0,1", "--format", "json"]);
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    doc["samples"].clone()
+}
+
+/// An adapter that reads its request and answers `prefix`, then `n` bytes of `0,0,0,…`, then
+/// `suffix`: an answer of any size made without holding it.
+fn zeros_adapter(d: &Path, name: &str, prefix: &str, n: u64, suffix: &str) -> String {
+    assert_eq!(n % 2, 0);
+    script(
+        d,
+        name,
+        &format!(
+            "cat >/dev/null\nprintf '%s' '{prefix}'\nyes 0, | tr -d '\\n' | head -c {n}\nprintf '%s' '0{suffix}'"
+        ),
+    )
+}
+
+#[test]
+fn r35_2_a_dense_answer_of_100_mb_is_read_in_memory_of_its_size() {
+    // 100 MB of `"dense": [0, 0, …]`: 3.2 GB before (a serde_json::Value per number, then a
+    // copy of the list); under 1 GiB of address space it aborted (exit 134).
+    let d = dir("r35-2-dense");
+    let adapter = zeros_adapter(&d, "dense.sh", "{\"dense\": [", 100_000_000, "]}");
+    let out = run(
+        &[
+            "compare",
+            "--exec",
+            &adapter,
+            "--dense",
+            "1",
+            "--t-end",
+            "1",
+            "--samples",
+            "2",
+        ],
+        Limits {
+            guard_seconds: 120,
+            memory_mib: Some(1024),
+            ..Limits::default()
+        },
+    );
+    let err = stderr(&out);
+    assert_eq!(code(&out), Some(2), "{err}");
+    assert!(err.contains("no \"stats.step_times\""), "{err}");
+}
+
+#[test]
+fn r35_2_a_junk_answer_is_skipped_not_held() {
+    // 45 MB of junk in "name" (the request's 20000 samples allow 47 MB): 741 MB before.
+    let d = dir("r35-2-junk");
+    let adapter = zeros_adapter(&d, "junk.sh", "{\"name\": [", 45_000_000, "]}");
+    let out = run(
+        &[
+            "compare",
+            "--exec",
+            &adapter,
+            "--t-end",
+            "1",
+            "--samples",
+            "20000",
+        ],
+        Limits {
+            guard_seconds: 120,
+            memory_mib: Some(400),
+            ..Limits::default()
+        },
+    );
+    let err = stderr(&out);
+    assert_eq!(code(&out), Some(2), "{err}");
+    assert!(err.contains("\"name\" must be a non-empty string"), "{err}");
+    // The same junk under a key rsts does not read is skipped: the answer is good.
+    let mut answer = serde_json::json!({ "samples": exact_samples() }).to_string();
+    answer.pop();
+    let prefix = format!("{answer}, \"junk\": [");
+    let adapter = zeros_adapter(&d, "junk-key.sh", &prefix, 45_000_000, "]}");
+    let out = run(
+        &[
+            "compare",
+            "--exec",
+            &adapter,
+            "--t-end",
+            "1",
+            "--samples",
+            "2",
+        ],
+        Limits {
+            guard_seconds: 120,
+            memory_mib: Some(400),
+            ..Limits::default()
+        },
+    );
+    // Two samples allow 1 MiB: the flood is cut off, as before, without being parsed.
+    assert_eq!(code(&out), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("its answer passed"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+/// `d/traj.csv`: the default motion at 0, 0.5, 1.
+fn traj_csv(d: &Path) -> PathBuf {
+    let traj = d.join("traj.csv");
+    let out = rsts(&["reference", "--times", "0,0.5,1", "-o", s(&traj)]);
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    traj
+}
+
+#[test]
+fn r35_4_an_output_that_is_an_input_is_refused_and_nothing_is_touched() {
+    let d = dir("r35-4");
+    let traj = traj_csv(&d);
+    let before = fs::read(&traj).unwrap();
+    let hard = d.join("hard.csv");
+    fs::hard_link(&traj, &hard).unwrap();
+    let soft = d.join("soft.mcap");
+    std::os::unix::fs::symlink(&traj, &soft).unwrap();
+    let times = d.join("t.txt");
+    fs::write(&times, "0 0.5 1\n").unwrap();
+    let times_link = d.join("t-link.txt");
+    std::os::unix::fs::symlink(&times, &times_link).unwrap();
+    let events = d.join("ev.csv");
+    fs::write(&events, "name,t\nomega1,0.5\n").unwrap();
+    let adapter = script(&d, "adapter.sh", "cat >/dev/null; exit 1");
+    let cases: Vec<(Vec<&str>, &str, &Path)> = vec![
+        (vec!["check", s(&traj), "--mcap", s(&traj)], "--mcap", &traj),
+        (
+            vec!["check", s(&traj), "--mcap", s(&hard)],
+            "hard link",
+            &traj,
+        ),
+        (
+            vec!["check", s(&traj), "--mcap", s(&soft)],
+            "symbolic link",
+            &traj,
+        ),
+        (
+            vec![
+                "check",
+                s(&traj),
+                "--events",
+                s(&events),
+                "--mcap",
+                s(&events),
+            ],
+            "--events",
+            &events,
+        ),
+        (
+            vec!["reference", "--times-file", s(&times), "-o", s(&times)],
+            "--times-file",
+            &times,
+        ),
+        (
+            vec!["reference", "--times-file", s(&times), "-o", s(&times_link)],
+            "symbolic link",
+            &times,
+        ),
+        (
+            vec!["compare", "--exec", &adapter, "--mcap", &adapter],
+            "--exec",
+            Path::new(&adapter),
+        ),
+    ];
+    for (args, needle, input) in cases {
+        let kept = fs::read(input).unwrap();
+        let out = run(&args, Limits::default());
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(needle) && err.contains("destroy the input"),
+            "{args:?}: {err}"
+        );
+        assert_eq!(fs::read(input).unwrap(), kept, "{args:?} changed the input");
+    }
+    assert_eq!(fs::read(&traj).unwrap(), before);
+    // Two outputs that are one file.
+    let svg = d.join("x.svg");
+    let out = run(
+        &["bench", "--svg", s(&svg), "--svg-tolerance", s(&svg)],
+        Limits::default(),
+    );
+    assert_eq!(code(&out), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("are one file"), "{}", stderr(&out));
+    assert_no_temporaries(&d);
+}
+
+#[test]
+fn r35_4_a_report_directory_holding_an_input_is_refused() {
+    let d = dir("r35-4-validate");
+    let suite = d.join("s.toml");
+    fs::write(
+        &suite,
+        "name = \"s\"\n[defaults]\nt_end = 1.0\nsamples = 3\n[[case]]\nname = \"a\"\ncamera = \"I+\"\nm = 0.3\nh = -0.375\nmethods = [\"dop853\"]\ntolerances = [1e-8]\n",
+    )
+    .unwrap();
+    let report = d.join("r");
+    let out = run(
+        &["validate", "--suite", s(&suite), "--report", s(&report)],
+        Limits::default(),
+    );
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    let base = report.join("report.json");
+    let before = fs::read(&base).unwrap();
+    for args in [
+        vec![
+            "validate",
+            "--suite",
+            s(&suite),
+            "--report",
+            s(&report),
+            "--baseline",
+            s(&base),
+        ],
+        vec!["validate", "merge", s(&report), "--report", s(&report)],
+    ] {
+        let out = run(&args, Limits::default());
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains("--report") && err.contains("holds the input"),
+            "{args:?}: {err}"
+        );
+        assert_eq!(
+            fs::read(&base).unwrap(),
+            before,
+            "{args:?} replaced the report"
+        );
+    }
+}
+
+#[test]
+fn r35_5_inputs_read_whole_are_bounded_before_reading() {
+    let d = dir("r35-5");
+    let traj = traj_csv(&d);
+    // 3 GiB that take no room: refused from its size, before a byte is read.
+    let sparse = d.join("sparse.json");
+    fs::File::create(&sparse).unwrap().set_len(3 << 30).unwrap();
+    let limits = Limits {
+        guard_seconds: 60,
+        memory_mib: Some(512),
+        ..Limits::default()
+    };
+    for input in [s(&sparse), "/dev/zero"] {
+        for args in [
+            vec!["check", s(&traj), "--events", input],
+            vec!["reference", "--times-file", input],
+            vec!["inspect", input],
+            vec!["validate", "merge", input, "--report", s(&d.join("m"))],
+        ] {
+            let out = run(&args, limits);
+            let err = stderr(&out);
+            assert_eq!(code(&out), Some(2), "{args:?}: {err}");
+            // A device of zeros is not MCAP, nor JSON: refused at its first bytes.
+            assert!(
+                err.contains("larger than the")
+                    || err.contains("longer than")
+                    || err.contains("does not start with the MCAP magic")
+                    || err.contains("is not a validation report"),
+                "{args:?}: {err}"
+            );
+        }
+    }
+    let suite = d.join("s.toml");
+    fs::write(
+        &suite,
+        "[[case]]\nname = \"a\"\ncamera = \"I+\"\nm = 0.3\nh = -0.375\nmethods = [\"dop853\"]\n",
+    )
+    .unwrap();
+    let report = d.join("r");
+    for input in [s(&sparse), "/dev/zero"] {
+        let args = [
+            "validate",
+            "--suite",
+            s(&suite),
+            "--report",
+            s(&report),
+            "--baseline",
+            input,
+        ];
+        let out = run(&args, limits);
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains("larger than the") || err.contains("is not a validation report"),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// An npy file of version `major` whose header length field says `len` bytes (8 KB in all).
+fn npy_with_header_length(major: u8, len: u32) -> Vec<u8> {
+    let mut b = b"\x93NUMPY".to_vec();
+    b.extend([major, 0]);
+    b.extend(len.to_le_bytes());
+    b.resize(8192, b' ');
+    b
+}
+
+#[test]
+fn r35_6_an_npy_header_length_is_bounded_before_the_npy_library_reads_it() {
+    // 0xfffffff0: npyz allocated 4 GiB first (exit 134 under any address-space limit).
+    let d = dir("r35-6");
+    let limits = Limits {
+        guard_seconds: 60,
+        memory_mib: Some(1024),
+        ..Limits::default()
+    };
+    for major in [2, 3] {
+        let path = d.join(format!("v{major}.npy"));
+        fs::write(&path, npy_with_header_length(major, 0xffff_fff0)).unwrap();
+        let out = run(&["check", s(&path)], limits);
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{err}");
+        assert!(err.contains("4294967280 bytes long"), "{err}");
+        // The same bytes on standard input.
+        let mut cmd = command(&["check", "-", "--input-format", "npy"], limits);
+        cmd.stdin(fs::File::open(&path).unwrap());
+        let out = wait_guarded(cmd.spawn().unwrap(), 60, "check - (npy)");
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{err}");
+        assert!(err.contains("4294967280 bytes long"), "{err}");
+    }
+}
+
+#[test]
+fn r35_8_events_are_sized_before_they_are_computed() {
+    // ~28000 turning points of s2 at 10000 digits: 2.8 GB of output. It used to start (hours of
+    // work, every event held); it is refused at once with the estimate.
+    let out = run(
+        &[
+            "events", "--event", "s2", "--t-end", "1e5", "--digits", "10000", "--format", "csv",
+        ],
+        Limits {
+            guard_seconds: 60,
+            memory_mib: Some(1024),
+            ..Limits::default()
+        },
+    );
+    let err = stderr(&out);
+    assert_eq!(code(&out), Some(2), "{err}");
+    assert!(err.contains("the events would take about"), "{err}");
+    assert_short_numbers(&err);
+}
+
+#[test]
+fn r35_8_events_are_written_as_they_are_found() {
+    // 41000 turning points of s1 and s2 at 50 digits (23 MB of CSV): every event was held until
+    // the end (79 MB peak); now a piece of the window at a time (7 MB, measured).
+    let time = Path::new("/usr/bin/time");
+    if !time.exists() {
+        rsts_io::report_skip(
+            "r35_8_events_are_written_as_they_are_found",
+            "/usr/bin/time is not installed",
+        );
+        return;
+    }
+    let d = dir("r35-8");
+    let peak = d.join("peak");
+    let child = Command::new(time)
+        .args(["-f", "%M", "-o", s(&peak), env!("CARGO_BIN_EXE_rsts")])
+        .args([
+            "events", "--event", "s1", "--event", "s2", "--t-end", "60000", "--digits", "50",
+            "--format", "csv",
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let out = wait_guarded(child, 300, "events --t-end 60000");
+    assert_eq!(code(&out), Some(0), "{}", stderr(&out));
+    let rows = out.stdout.iter().filter(|&&b| b == b'\n').count() - 1;
+    assert!(rows > 40_000, "{rows} events");
+    let kb: u64 = fs::read_to_string(&peak).unwrap().trim().parse().unwrap();
+    assert!(
+        kb < 25_000,
+        "peak {kb} KB for {} bytes of events",
+        out.stdout.len()
+    );
+}
+
+#[test]
+fn r35_9_jobs_are_capped_at_eight_per_core() {
+    let d = dir("r35-9");
+    let traj = traj_csv(&d);
+    // Under 256 MiB of address space: the old code started threads until it ran out.
+    let limits = Limits {
+        guard_seconds: 30,
+        memory_mib: Some(256),
+        ..Limits::default()
+    };
+    for args in [
+        vec!["check", s(&traj), "--jobs", "100000"],
+        vec!["reference", "--times", "0,1", "--jobs", "100000"],
+    ] {
+        let out = run(&args, limits);
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{args:?}: {err}");
+        assert!(err.contains("threads (8 per core"), "{args:?}: {err}");
+    }
+    let help = rsts(&["check", "--help"]);
+    assert!(
+        stdout(&help).contains("at most 8 per core"),
+        "{}",
+        stdout(&help)
+    );
+}
+
+#[test]
+fn r35_10_dense_step_times_cover_the_run_and_a_run_of_no_step_is_refused() {
+    let d = dir("r35-10-dense");
+    let samples = exact_samples();
+    let states: Vec<Value> = samples.as_array().unwrap().clone();
+    // Step times [0]: no step, no dense sample — reported as dense_max_error 0 before.
+    // Step times [0, 0.5] for a run to t = 1: half the run — accepted before.
+    let half = {
+        let mut s0 = states[1].clone();
+        s0["t"] = serde_json::json!(0.25);
+        let mut s1 = states[1].clone();
+        s1["t"] = serde_json::json!(0.5);
+        vec![s0, s1]
+    };
+    for (step_times, dense) in [(vec![0.0], vec![]), (vec![0.0, 0.5], half)] {
+        let answer = serde_json::json!({
+            "samples": samples, "stats": {"step_times": step_times}, "dense": dense,
+        });
+        let file = d.join("answer.json");
+        fs::write(&file, answer.to_string()).unwrap();
+        let adapter = script(&d, "a.sh", &format!("cat >/dev/null; cat '{}'", s(&file)));
+        let out = run(
+            &[
+                "compare",
+                "--exec",
+                &adapter,
+                "--dense",
+                "1",
+                "--t-end",
+                "1",
+                "--samples",
+                "2",
+                "--format",
+                "json",
+            ],
+            Limits::default(),
+        );
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{step_times:?}: {}{err}", stdout(&out));
+        assert!(err.contains("stats.step_times ends at"), "{err}");
+    }
+}
+
+#[test]
+fn r35_10_times_of_one_double_and_times_that_round_to_zero_are_refused() {
+    let d = dir("r35-10-times");
+    let traj = traj_csv(&d);
+    let text = fs::read_to_string(&traj).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    for (t1, t2, needle) in [
+        ("0.1", "0.10000000000000001", "both are the double 0.1"),
+        ("0", "1e-400", "rounds to 0 as f64"),
+    ] {
+        // Rows 2 and 3 (the states at 0.5 and 1) at times t1 and t2.
+        for (k, t) in [(2, t1), (3, t2)] {
+            let rest = lines[k].split_once(',').unwrap().1.to_string();
+            lines[k] = format!("{t},{rest}");
+        }
+        if t1 == "0" {
+            // Row 1 at -1: 0 then 1e-400 follow it.
+            let rest = lines[1].split_once(',').unwrap().1.to_string();
+            lines[1] = format!("-1,{rest}");
+        }
+        let bad = d.join("bad.csv");
+        fs::write(&bad, lines.join("\n") + "\n").unwrap();
+        let out = run(
+            &["check", s(&bad), "--m", "0.3", "--h", "-0.375"],
+            Limits::default(),
+        );
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{t1} {t2}: {err}");
+        assert!(err.contains("line 4") && err.contains(needle), "{err}");
+        let mut cmd = command(
+            &[
+                "check",
+                "-",
+                "--input-format",
+                "csv",
+                "--m",
+                "0.3",
+                "--h",
+                "-0.375",
+            ],
+            Limits::default(),
+        );
+        cmd.stdin(fs::File::open(&bad).unwrap());
+        let out = wait_guarded(cmd.spawn().unwrap(), 60, "check -");
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "stdin {t1} {t2}: {err}");
+        assert!(err.contains(needle), "{err}");
+    }
+}
+
+#[test]
+fn r35_10_messages_cut_long_values() {
+    let d = dir("r35-10-cut");
+    // 1e300 used to be printed as 301 digits.
+    for args in [
+        vec!["reference", "--times", "1e300,1"],
+        vec![
+            "events",
+            "--event",
+            "s1",
+            "--t-start",
+            "1e300",
+            "--t-end",
+            "1",
+        ],
+    ] {
+        let out = rsts(&args);
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{args:?}: {err}");
+        assert!(err.contains("1e300") && err.len() < 400, "{args:?}: {err}");
+    }
+    // A 200 kB line of a suite used to be printed twice.
+    let suite = d.join("long.toml");
+    let long = "x".repeat(200_000);
+    fs::write(
+        &suite,
+        format!("name = \"t\"\n[defaults]\nt_end = \"{long}\"\n"),
+    )
+    .unwrap();
+    let out = rsts(&["validate", "--suite", s(&suite), "--list"]);
+    let err = stderr(&out);
+    assert_eq!(code(&out), Some(2), "{}", &err[..err.len().min(300)]);
+    assert!(err.len() < 600, "{} bytes: {}", err.len(), &err[..600]);
+    // A 5000-digit time in an events file.
+    let traj = traj_csv(&d);
+    let events = d.join("ev.csv");
+    fs::write(&events, format!("name,t\nomega1,{}x\n", "9".repeat(5000))).unwrap();
+    let out = rsts(&["check", s(&traj), "--events", s(&events)]);
+    let err = stderr(&out);
+    assert_eq!(code(&out), Some(2), "{err}");
+    assert!(
+        err.len() < 400 && err.contains("(5001 characters)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn r35_10_a_version_with_bidi_controls_or_line_separators_is_refused() {
+    let d = dir("r35-10-version");
+    let samples = exact_samples();
+    for version in ["1.0\u{202E}3.2", "1.0\u{2028}evil", "\u{2066}x\u{2069}"] {
+        let answer = serde_json::json!({"samples": samples, "version": version});
+        let file = d.join("answer.json");
+        fs::write(&file, answer.to_string()).unwrap();
+        let adapter = script(&d, "v.sh", &format!("cat >/dev/null; cat '{}'", s(&file)));
+        let out = run(
+            &[
+                "compare",
+                "--exec",
+                &adapter,
+                "--t-end",
+                "1",
+                "--samples",
+                "2",
+            ],
+            Limits::default(),
+        );
+        let err = stderr(&out);
+        assert_eq!(code(&out), Some(2), "{version:?}: {err}");
+        assert!(err.contains("\"version\" must not hold"), "{err}");
+    }
+}
+
+#[test]
+fn r35_10_a_device_output_without_a_temporary_directory_names_tmpdir() {
+    let out = command(
+        &["reference", "--times", "0,1", "-o", "/dev/null"],
+        Limits::default(),
+    )
+    .env("TMPDIR", "/nonexistent-rsts-tmp")
+    .output()
+    .unwrap();
+    let err = stderr(&out);
+    assert_eq!(code(&out), Some(2), "{err}");
+    assert!(
+        err.contains("TMPDIR") && err.contains("/nonexistent-rsts-tmp"),
+        "{err}"
+    );
+}

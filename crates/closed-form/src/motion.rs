@@ -238,6 +238,37 @@ impl<T: Scalar> ExplicitMotion<T> {
     /// clock's guard bits. At most `limit` times (`None` beyond).
     pub fn turning_times(&self, i: usize, t0: &T, t1: &T, limit: usize) -> Option<Vec<(T, bool)>> {
         let bits = self.constants.a.prec();
+        let w = self.turning_window(i, t0, t1);
+        let span = Float::with_val(w.hi, &w.j1 - &w.j0).to_f64();
+        if !(span.is_finite() && span <= limit as f64 + 2.0) {
+            return None;
+        }
+        let mut out = Vec::new();
+        let mut j = w.j0;
+        while j <= w.j1 {
+            let t = (Float::with_val(w.hi, &j * &w.big_k) - &w.u0) / &w.u_dot;
+            if t > w.a && t <= w.b {
+                let even = Float::with_val(w.hi, &j / 2u32).is_integer();
+                out.push((T::from_mpfr(&t, bits), even));
+            }
+            j += 1u32;
+        }
+        if w.u_dot < 0 {
+            out.reverse();
+        }
+        (out.len() <= limit).then_some(out)
+    }
+
+    /// How many turning points of separated variable `i` [`Self::turning_times`] may find in
+    /// (t0, t1] (at most two more than it finds), without listing them.
+    pub fn turning_count(&self, i: usize, t0: &T, t1: &T) -> f64 {
+        let w = self.turning_window(i, t0, t1);
+        Float::with_val(w.hi, &w.j1 - &w.j0).to_f64() + 1.0
+    }
+
+    /// The range of j with jK in u((t0, t1]) for separated variable `i`.
+    fn turning_window(&self, i: usize, t0: &T, t1: &T) -> TurningWindow {
+        let bits = self.constants.a.prec();
         let (hi, u0, u_dot, big_k) = match &self.clock {
             Some(clock) => {
                 let (u0, four_k) = clock.u0_four_k();
@@ -262,24 +293,16 @@ impl<T: Scalar> ExplicitMotion<T> {
         let (lo, up) = if ua <= ub { (ua, ub) } else { (ub, ua) };
         let j0 = Float::with_val(hi, &lo / &big_k).floor();
         let j1 = Float::with_val(hi, &up / &big_k).ceil();
-        let span = Float::with_val(hi, &j1 - &j0).to_f64();
-        if !(span.is_finite() && span <= limit as f64 + 2.0) {
-            return None;
+        TurningWindow {
+            hi,
+            u0,
+            u_dot,
+            big_k,
+            a,
+            b,
+            j0,
+            j1,
         }
-        let mut out = Vec::new();
-        let mut j = j0;
-        while j <= j1 {
-            let t = (Float::with_val(hi, &j * &big_k) - &u0) / &u_dot;
-            if t > a && t <= b {
-                let even = Float::with_val(hi, &j / 2u32).is_integer();
-                out.push((T::from_mpfr(&t, bits), even));
-            }
-            j += 1u32;
-        }
-        if u_dot < 0 {
-            out.reverse();
-        }
-        (out.len() <= limit).then_some(out)
     }
 
     /// The state at time t.
@@ -461,4 +484,17 @@ impl<T: Real> ExplicitMotion<T> {
         let p2 = self.second.eval::<T>(&sn2, &cn2);
         explicit_state(&self.formula, SeparatedCoordinates::new(p1, p2))
     }
+}
+
+/// The turning points of one separated variable in a window: u = u₀ + u̇ t, the quarter
+/// period K, the window (a, b] and the range j0 ..= j1 of jK it covers, at `hi` bits.
+struct TurningWindow {
+    hi: u32,
+    u0: Float,
+    u_dot: Float,
+    big_k: Float,
+    a: Float,
+    b: Float,
+    j0: Float,
+    j1: Float,
 }

@@ -161,3 +161,51 @@ fn a_near_tangent_crossing_is_two_events_and_its_neighbour_none() {
         assert!(component(&m, t, 7).to_f64().abs() < 1e-38);
     }
 }
+
+/// The count `rsts events` sizes its output by before computing (one event per grid cell of a
+/// component, the turning points counted) holds with room on every camera of the quick suite:
+/// each name alone, T = 300. The largest share of a component is printed (docs/events.md quotes
+/// it).
+#[test]
+fn the_output_estimate_bounds_the_events_found() {
+    use rsts_closed_form::events::EventSearch;
+    let cameras = [
+        (0.3, -0.375, 0),
+        (-1.9244, 0.4503, 0),
+        (0.05, 1.058, 1),
+        (-0.5573, 1.463, 1),
+        (-2.9877, 1.2605, 0),
+        (0.05, 2.0706, 2),
+        (-0.3295, 1.7668, 3),
+        (-0.7092, 1.5643, 3),
+        (-2.9877, 3.2858, 1),
+        (1e-7, -0.375, 0),
+        (0.3, 0.1, 0),
+    ];
+    let bits = working_bits(None);
+    let (t0, t1) = (Float::with_val(bits, 0.0), Float::with_val(bits, 300.0));
+    let mut worst: (f64, String) = (0.0, String::new());
+    for (m, h, torus) in cameras {
+        let mo = motion((1.0, 0.5, m, h, torus), 0.0, 0.0, bits);
+        for spec in all_specs() {
+            let search = EventSearch::new(&mo, &[spec], &t0, &t1).unwrap();
+            let found = exact_events(&mo, &[spec], &t0, &t1).unwrap().len() as f64;
+            let share = found / search.most_events();
+            assert!(
+                share <= 1.0,
+                "{m} {h} {}: {found} of {}",
+                spec.name,
+                search.most_events()
+            );
+            // The turning points are counted, not estimated: only the components have room.
+            if spec.name.index() < 12 && share > worst.0 {
+                worst = (share, format!("m {m}, h {h}, torus {torus}, {}", spec.name));
+            }
+        }
+    }
+    eprintln!(
+        "largest share of the estimate for a component: {:.3} ({})",
+        worst.0, worst.1
+    );
+    assert!(worst.0 < 0.9, "{worst:?}");
+}

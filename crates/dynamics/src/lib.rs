@@ -48,9 +48,32 @@ pub fn short(x: f64) -> String {
     }
 }
 
+/// `x` exactly as a message shows a value the user gave: as Rust prints it (`0.1`, `2`,
+/// `-1.5`) when that takes at most 24 characters, else in its shortest form with an exponent
+/// (`1e300`, not 301 digits; `1e-300`, not 300 zeros). Unlike [`short`], nothing is rounded.
+pub fn shown(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 24 {
+        plain
+    } else {
+        format!("{x:e}")
+    }
+}
+
 #[cfg(test)]
 mod short_tests {
     use super::short;
+
+    #[test]
+    fn values_are_shown_whole_but_never_as_hundreds_of_digits() {
+        use super::shown;
+        assert_eq!(shown(0.0), "0");
+        assert_eq!(shown(0.1), "0.1");
+        assert_eq!(shown(1e300), "1e300");
+        assert_eq!(shown(-1e-300), "-1e-300");
+        assert_eq!(shown(0.30000000000000004), "0.30000000000000004");
+        assert_eq!(shown(1e30), "1e30");
+    }
 
     #[test]
     fn numbers_in_messages_are_short() {

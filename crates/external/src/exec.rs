@@ -48,10 +48,14 @@ pub const MAX_TIMEOUT_SECONDS: f64 = 1e9;
 pub const DEFAULT_DIGITS: u32 = 36;
 
 mod answer;
+pub(crate) mod answer_doc;
 mod process;
 
 pub use answer::{max_answer, MAX_VERSION_CHARS};
-pub use process::{check_program, check_timeout, kill_running, split_command, stderr_tail};
+pub use answer_doc::MAX_ANSWER_EVENTS;
+pub use process::{
+    check_program, check_timeout, command_files, kill_running, split_command, stderr_tail,
+};
 
 /// An external integrator: a command and the settings sent with every request.
 #[derive(Clone, Debug)]

@@ -56,7 +56,9 @@ pub fn read_trajectory(path: &Path) -> Result<RawTrajectory, String> {
             checked(raw, &name)
         }
         format => {
-            let bytes = std::fs::read(path).map_err(|e| format!("{name}: cannot read ({e})"))?;
+            let what = "a trajectory read whole";
+            let bytes = rsts_io::read_bounded(path, crate::stream::MAX_WHOLE_BYTES, what)
+                .map_err(|e| format!("{name}: cannot read ({e})"))?;
             parse_trajectory(&bytes, format, &name)
         }
     }
@@ -76,9 +78,8 @@ pub fn parse_trajectory(
     let raw = match format {
         FileFormat::Csv => parse_csv(text()?),
         FileFormat::Json => {
-            let value: Value = serde_json::from_str(text()?)
-                .map_err(|e| format!("{name}: not valid JSON ({e})"))?;
-            parse_json(&value)
+            text()?;
+            read_json_trajectory(bytes).map_err(|e| format!("{name}: {e}"))
         }
         FileFormat::Npy => parse_npy(bytes),
         FileFormat::Mcap => Err("an MCAP log is read from a file, not from a stream".into()),
@@ -253,6 +254,32 @@ pub fn parse_json(doc: &Value) -> Result<RawTrajectory, String> {
     Ok(raw)
 }
 
+/// A JSON trajectory file ([`parse_json`]'s layout and messages) read as a stream: the samples
+/// go into the trajectory as they are parsed, other keys are skipped unread (memory is that of
+/// the samples kept, not of a tree of the document). At most [`crate::stream::MAX_ROWS`]
+/// samples are kept; more is refused.
+pub fn read_json_trajectory(bytes: &[u8]) -> Result<RawTrajectory, String> {
+    use crate::exec::answer_doc::AnswerDoc;
+    let max = crate::stream::MAX_ROWS;
+    let doc = AnswerDoc::read(bytes, max).map_err(|e| format!("not valid JSON ({e})"))?;
+    let list = doc.samples.ok_or_else(|| {
+        "expected an object with \"samples\": [{\"t\", \"omega\", \"alpha\", \"beta\"}, ...]"
+            .to_string()
+    })?;
+    if let Some(e) = list.error {
+        return Err(e);
+    }
+    if list.count > max {
+        return Err(format!(
+            "{} samples, above the limit of {max} (10⁸); check it in parts",
+            list.count
+        ));
+    }
+    let mut raw = list.raw;
+    raw.stats = parse_stats(doc.stats.as_ref())?;
+    Ok(raw)
+}
+
 /// The `stats` block of a JSON trajectory as `rsts integrate --format json` writes it
 /// (`accepted_steps`, `rejected_steps`, `rhs_evals`, `integration_seconds`; `steps` as an
 /// external integrator's answer names the accepted steps): every key optional, numbers or
@@ -340,11 +367,57 @@ pub(crate) struct NpyShape {
     pub order: npyz::Order,
 }
 
-/// The header of an npy trajectory, checked: float64, (N, 10) or (N, 13).
-pub(crate) fn npy_open<R: std::io::Read>(
-    reader: R,
-) -> Result<(npyz::NpyFile<R>, NpyShape), String> {
-    let npy = npyz::NpyFile::new(reader).map_err(|e| format!("not a valid npy file ({e})"))?;
+/// Longest npy header read (bytes after the length field): numpy's own `max_header_size`.
+/// The header of an (N, 10) float64 array takes 118.
+pub const MAX_NPY_HEADER_BYTES: u64 = 10_000;
+
+/// The input with its npy header length checked against [`MAX_NPY_HEADER_BYTES`] before the
+/// npy library reads it (a version 2 or 3 header whose length field says 4 GiB would otherwise
+/// be allocated first). The bytes read to check it come first again.
+pub(crate) fn npy_bounded<R: std::io::Read>(
+    mut reader: R,
+) -> Result<std::io::Chain<std::io::Cursor<Vec<u8>>, R>, String> {
+    use std::io::Read;
+    let mut prefix = Vec::with_capacity(12);
+    // Magic (6), version (2), header length (2 bytes in version 1, 4 in versions 2 and 3).
+    (&mut reader)
+        .take(10)
+        .read_to_end(&mut prefix)
+        .map_err(|e| format!("cannot read ({e})"))?;
+    if prefix.len() == 10 && prefix.starts_with(b"\x93NUMPY") {
+        let len = match prefix[6] {
+            1 => u64::from(u16::from_le_bytes([prefix[8], prefix[9]])),
+            _ => {
+                (&mut reader)
+                    .take(2)
+                    .read_to_end(&mut prefix)
+                    .map_err(|e| format!("cannot read ({e})"))?;
+                if prefix.len() < 12 {
+                    return Err("not a valid npy file (truncated header)".into());
+                }
+                u64::from(u32::from_le_bytes([
+                    prefix[8], prefix[9], prefix[10], prefix[11],
+                ]))
+            }
+        };
+        if len > MAX_NPY_HEADER_BYTES {
+            return Err(format!(
+                "not a valid npy file (its header says it is {len} bytes long, more than the \
+                 {MAX_NPY_HEADER_BYTES} an npy header may have)"
+            ));
+        }
+    }
+    Ok(std::io::Cursor::new(prefix).chain(reader))
+}
+
+/// An npy file opened for reading: the header read, the values next.
+pub(crate) type NpyReader<R> = npyz::NpyFile<std::io::Chain<std::io::Cursor<Vec<u8>>, R>>;
+
+/// The header of an npy trajectory, checked: float64, (N, 10) or (N, 13); its length bounded
+/// first ([`npy_bounded`]).
+pub(crate) fn npy_open<R: std::io::Read>(reader: R) -> Result<(NpyReader<R>, NpyShape), String> {
+    let npy = npyz::NpyFile::new(npy_bounded(reader)?)
+        .map_err(|e| format!("not a valid npy file ({e})"))?;
     let dtype = match npy.dtype() {
         npyz::DType::Plain(ts) => ts.to_string(),
         other => other.descr(),

@@ -22,7 +22,7 @@ pub mod samples;
 pub mod stream;
 
 pub use exec::{
-    check_program, check_timeout, kill_running, split_command, Exec, DEFAULT_DIGITS,
+    check_program, check_timeout, command_files, kill_running, split_command, Exec, DEFAULT_DIGITS,
     DEFAULT_TIMEOUT_SECONDS, MAX_TIMEOUT_SECONDS, PROTOCOL,
 };
 pub use files::{npy_bytes, npy_header, parse_trajectory, read_trajectory, FileFormat, COLUMNS};

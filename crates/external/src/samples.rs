@@ -127,14 +127,7 @@ pub fn text_f64(s: &str) -> Result<(f64, usize), String> {
 }
 
 /// A value as shown in a message: at most 40 characters (a 50 MB field is not repeated whole).
-pub fn cut(s: &str) -> String {
-    const SHOWN: usize = 40;
-    if s.chars().count() <= SHOWN {
-        return s.to_string();
-    }
-    let head: String = s.chars().take(SHOWN).collect();
-    format!("{head}… ({} characters)", s.chars().count())
-}
+pub use rsts_io::cut;
 
 /// Check that a state component read from outside is within the stated range
 /// ([`rsts_dynamics::state::MAX_COMPONENT`]): a larger value would only make the geometry of
@@ -211,16 +204,18 @@ impl RawTrajectory {
         self.digits() > F64_TEXT_DIGITS
     }
 
-    /// Check that times strictly increase; the message names the sample's place.
+    /// Check that times strictly increase, compared as the precision rule reads this whole
+    /// trajectory ([`RawTrajectory::check_times_at`]).
     pub fn check_times(&self) -> Result<(), String> {
+        self.check_times_at(self.is_high_precision())
+    }
+
+    /// Check that times strictly increase as read with the precision rule decided (`high`:
+    /// decimal texts read exactly; else as the f64 values they are, [`time_order`]); the
+    /// message names the sample's place.
+    pub fn check_times_at(&self, high: bool) -> Result<(), String> {
         for k in 1..self.times.len() {
-            if !comes_after(&self.times[k - 1], &self.times[k]) {
-                return Err(not_after(
-                    &self.places[k],
-                    &self.times[k],
-                    &self.times[k - 1],
-                ));
-            }
+            time_order(&self.times[k - 1], &self.times[k], high, &self.places[k])?;
         }
         Ok(())
     }
@@ -248,6 +243,45 @@ impl RawTrajectory {
     }
 }
 
+/// Check that the time `t` (at `place`) comes after `previous` in data read by the precision
+/// rule as `high` (decimal texts exact) or not (f64 data: each text is the f64 nearest to it,
+/// so `0.1` and `0.10000000000000001` are one time, as in an npy file). A time that is not 0
+/// but rounds to 0 as f64 is refused in any data (a report would show it as t = 0).
+pub(crate) fn time_order(
+    previous: &Number,
+    t: &Number,
+    high: bool,
+    place: &str,
+) -> Result<(), String> {
+    if let Number::Text(s) = t {
+        if t.to_f64() == 0.0
+            && Float::parse(s.trim()).is_ok_and(|x| !Float::with_val(64, x).is_zero())
+        {
+            return Err(format!(
+                "{place}: t = {} rounds to 0 as f64 (below the smallest positive f64, 4.9e-324): \
+                 not a time after t = 0",
+                cut(s.trim())
+            ));
+        }
+    }
+    let after = if high {
+        comes_after(previous, t)
+    } else {
+        t.to_f64() > previous.to_f64()
+    };
+    if after {
+        return Ok(());
+    }
+    let mut e = not_after(place, t, previous);
+    if !high && t != previous && t.to_f64() == previous.to_f64() {
+        e.push_str(&format!(
+            "; in f64 data (no value of more than {F64_TEXT_DIGITS} digits) both are the double {:?}",
+            t.to_f64()
+        ));
+    }
+    Err(e)
+}
+
 /// Whether `b` comes strictly after `a` (decimal texts beyond f64 compared exactly).
 pub(crate) fn comes_after(a: &Number, b: &Number) -> bool {
     let (x, y) = (a.to_f64(), b.to_f64());
@@ -270,7 +304,7 @@ pub(crate) fn not_after(place: &str, t: &Number, previous: &Number) -> String {
 fn show(n: &Number) -> String {
     match n {
         Number::F64(x) => format!("{x:?}"),
-        Number::Text(s) => s.clone(),
+        Number::Text(s) => cut(s),
     }
 }
 
@@ -382,6 +416,36 @@ mod tests {
         let exact = Float::with_val(200, Float::parse("0.1").unwrap());
         assert_eq!(s.states[0].omega[0], exact);
         assert_ne!(exact, Float::with_val(200, 0.1f64));
+    }
+
+    /// f64 data compare their times as f64 (two texts of one double are one time, as npy
+    /// has it); high-precision data compare them exactly; a time that rounds to 0 is refused.
+    #[test]
+    fn times_are_compared_as_the_data_are_read() {
+        let z = || std::array::from_fn(|_| Number::F64(0.0));
+        let mut raw = RawTrajectory::default();
+        raw.push(Number::Text("0.1".into()), z(), "line 2".into());
+        raw.push(
+            Number::Text("0.10000000000000001".into()),
+            z(),
+            "line 3".into(),
+        );
+        let e = raw.check_times().unwrap_err();
+        assert!(
+            e.starts_with("line 3: t = 0.10000000000000001 does not come after"),
+            "{e}"
+        );
+        assert!(raw.check_times_at(true).is_ok());
+        let mut raw = RawTrajectory::default();
+        raw.push(Number::Text("0".into()), z(), "line 2".into());
+        raw.push(Number::Text("1e-400".into()), z(), "line 3".into());
+        for high in [false, true] {
+            let e = raw.check_times_at(high).unwrap_err();
+            assert!(
+                e.starts_with("line 3: t = 1e-400 rounds to 0 as f64"),
+                "{e}"
+            );
+        }
     }
 
     #[test]

@@ -14,7 +14,7 @@ use rsts_harness::{CheckStream, Observer};
 use crate::files::{
     npy_open, npy_row, npy_rows, parse_trajectory, read_mcap, CsvHeader, FileFormat,
 };
-use crate::samples::{comes_after, not_after, Number, RawTrajectory, F64_TEXT_DIGITS};
+use crate::samples::{time_order, Number, RawTrajectory, F64_TEXT_DIGITS};
 
 mod csv_count;
 mod decimal;
@@ -26,6 +26,11 @@ mod survey_tests;
 
 /// Rows per chunk.
 pub const CHUNK_ROWS: usize = 1 << 13;
+/// Most significant digits of the values of one chunk of high-precision data (a chunk of 10000
+/// digit values holds 160 rows): the memory of a check does not grow with the digits of its
+/// data beyond this (~16 MB of text and as much in numbers). f64 data (at most 17 digits a value)
+/// always come in chunks of [`CHUNK_ROWS`].
+pub const CHUNK_DIGITS: usize = 16_000_000;
 /// Most samples one trajectory may have (`rsts check`; docs/output.md).
 pub const MAX_ROWS: usize = 100_000_000;
 /// Largest input read whole (JSON, MCAP, Fortran-order npy): 2 GiB.
@@ -77,6 +82,9 @@ pub struct TrajectoryReader {
     stats: rsts_harness::StatedStats,
     /// Opened without a survey of its digits ([`TrajectoryReader::open_f64`]).
     reread_if_long: bool,
+    /// The precision rule, once decided (by a survey, or by a stream's first chunk): how times
+    /// are compared ([`crate::samples::time_order`]).
+    high: Option<bool>,
 }
 
 /// The samples of a trajectory read whole, in order.
@@ -144,11 +152,14 @@ impl TrajectoryReader {
                 digits: 0,
                 extent: 0.0,
             };
+            first.high = Some(false);
             return Ok((first, survey));
         }
         // Read as f64 (digits counted, every row checked): one parse per value.
         let survey = first.survey_f64()?;
-        Ok((Self::open(path)?, survey))
+        let mut reader = Self::open(path)?;
+        reader.high = Some(survey.is_high_precision());
+        Ok((reader, survey))
     }
 
     /// A trajectory in `format` from `input` (standard input, say), named `name` in messages.
@@ -189,7 +200,7 @@ impl TrajectoryReader {
                 let big_endian =
                     matches!(npy.dtype(), npyz::DType::Plain(ts) if ts.to_string() == ">f8");
                 Rows::Npy {
-                    input: npy.into_inner(),
+                    input: Box::new(npy.into_inner()),
                     big_endian,
                     rows: shape.rows,
                     width: shape.width,
@@ -199,14 +210,15 @@ impl TrajectoryReader {
                 }
             }
             FileFormat::Json | FileFormat::Mcap => {
-                let mut bytes = Vec::new();
-                buffered
-                    .take(MAX_WHOLE_BYTES + 1)
-                    .read_to_end(&mut bytes)
-                    .map_err(|e| format!("{name}: cannot read ({e})"))?;
-                if bytes.len() as u64 > MAX_WHOLE_BYTES {
-                    return Err(too_big(name));
-                }
+                let what = "a JSON trajectory";
+                let bytes =
+                    rsts_io::read_stream_bounded(buffered, MAX_WHOLE_BYTES, what).map_err(|e| {
+                        if e.kind() == std::io::ErrorKind::InvalidData {
+                            too_big(name)
+                        } else {
+                            format!("{name}: cannot read ({e})")
+                        }
+                    })?;
                 return Self::whole(parse_trajectory(&bytes, format, name)?, name);
             }
         };
@@ -217,6 +229,7 @@ impl TrajectoryReader {
             read: 0,
             stats: Default::default(),
             reread_if_long: false,
+            high: None,
         })
     }
 
@@ -253,6 +266,7 @@ impl TrajectoryReader {
             read: 0,
             stats,
             reread_if_long: false,
+            high: Some(survey.is_high_precision()),
         })
     }
 
@@ -290,9 +304,15 @@ impl TrajectoryReader {
     pub fn next_chunk(&mut self) -> Result<Option<RawTrajectory>, String> {
         let name = &self.name;
         let mut raw = RawTrajectory::default();
-        while raw.len() < CHUNK_ROWS {
+        // Digits held in the chunk: long values make it shorter, so that a chunk of
+        // high-precision data holds at most CHUNK_DIGITS digits (and their numbers).
+        let mut digits = 0;
+        while raw.len() < CHUNK_ROWS && digits < CHUNK_DIGITS {
             match self.rows.next_row().map_err(|e| format!("{name}: {e}"))? {
-                Some((t, state, place)) => raw.push(t, state, place),
+                Some((t, state, place)) => {
+                    digits += t.digits() + state.iter().map(Number::digits).sum::<usize>();
+                    raw.push(t, state, place)
+                }
                 None => break,
             }
         }
@@ -302,15 +322,14 @@ impl TrajectoryReader {
             }
             return Ok(None);
         }
+        // A stream's precision is decided by its first chunk (as its survey is).
+        let high = *self.high.get_or_insert_with(|| raw.is_high_precision());
         if let Some((previous, _)) = &self.last {
-            if !comes_after(previous, &raw.times[0]) {
-                return Err(format!(
-                    "{name}: {}",
-                    not_after(&raw.places[0], &raw.times[0], previous)
-                ));
-            }
+            time_order(previous, &raw.times[0], high, &raw.places[0])
+                .map_err(|e| format!("{name}: {e}"))?;
         }
-        raw.check_times().map_err(|e| format!("{name}: {e}"))?;
+        raw.check_times_at(high)
+            .map_err(|e| format!("{name}: {e}"))?;
         self.read += raw.len();
         if self.read > MAX_ROWS {
             return Err(too_many(name, self.read));

@@ -3,11 +3,13 @@
 //! Hermite interpolation (how the built-in methods and plain trajectories report events), and
 //! matching detected with exact events into the `"events"` part of a report.
 
-use rsts_closed_form::events::{
-    events_report, DirectionFilter, EventCase, EventName, EventSpec, EVENT_NAMES,
-};
+use rsts_closed_form::events::{events_report, DirectionFilter, EventCase, EventName, EventSpec};
 use rsts_dynamics::{Fields, VectorField};
 use serde::Serialize;
+
+pub use crate::detected::{
+    parse_detected, read_detected, MAX_DETECTED_BYTES, MAX_DETECTED_EVENTS, MAX_DETECTED_LINE_BYTES,
+};
 
 use crate::analysis::Observer;
 use crate::metrics::SampleRecord;
@@ -354,90 +356,6 @@ pub fn locate_by_interpolation(
     }
     out.sort_by(|p, q| p.t.total_cmp(&q.t));
     out
-}
-
-/// Detected events from a file's text: CSV with the columns `name` and `t` (any order, others
-/// ignored) or JSON `{"events":
-/// [{"name", "t"}]}`. Errors name the line (CSV) or the entry (JSON): unknown names, times that
-/// are not finite numbers or not in increasing order.
-pub fn parse_detected(text: &str) -> Result<Vec<DetectedEvent>, String> {
-    let mut out: Vec<DetectedEvent> = Vec::new();
-    let mut push = |where_: String, name: &str, t: f64| -> Result<(), String> {
-        let name = EventName::parse(name.trim()).ok_or_else(|| {
-            format!(
-                "{where_}: unknown event '{}' (known: {})",
-                name.trim(),
-                EVENT_NAMES.join(", ")
-            )
-        })?;
-        if !t.is_finite() {
-            return Err(format!("{where_}: the time is not a finite number"));
-        }
-        if let Some(last) = out.last() {
-            if t < last.t {
-                return Err(format!(
-                    "{where_}: t = {t} is before the previous event's t = {}; list events in time order",
-                    last.t
-                ));
-            }
-        }
-        out.push(DetectedEvent { name, t });
-        Ok(())
-    };
-    if text.trim_start().starts_with('{') {
-        let doc: serde_json::Value =
-            serde_json::from_str(text).map_err(|e| format!("invalid JSON: {e}"))?;
-        let list = doc
-            .get("events")
-            .and_then(|v| v.as_array())
-            .ok_or("JSON without an \"events\" array")?;
-        for (i, e) in list.iter().enumerate() {
-            let where_ = format!("events[{i}]");
-            let name = e
-                .get("name")
-                .and_then(|v| v.as_str())
-                .ok_or_else(|| format!("{where_}: no \"name\" string"))?;
-            let t = match e.get("t") {
-                Some(serde_json::Value::Number(n)) => n.as_f64(),
-                Some(serde_json::Value::String(s)) => s.trim().parse().ok(),
-                _ => None,
-            }
-            .ok_or_else(|| format!("{where_}: no \"t\" number"))?;
-            push(where_, name, t)?;
-        }
-        return Ok(out);
-    }
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    // The columns `name` and `t`, in any order (other columns are ignored: the CSV of
-    // `rsts events` is read as it is).
-    let missing = "expected a header with the columns name and t";
-    let (ni, ti) = match lines.next() {
-        Some((i, header)) => {
-            let cols: Vec<&str> = header.split(',').map(str::trim).collect();
-            let at = |c: &str| cols.iter().position(|x| *x == c);
-            match (at("name"), at("t")) {
-                (Some(n), Some(t)) => (n, t),
-                _ => return Err(format!("line {}: {missing}", i + 1)),
-            }
-        }
-        None => return Err(format!("empty file: {missing}")),
-    };
-    for (i, line) in lines {
-        let where_ = format!("line {}", i + 1);
-        let cols: Vec<&str> = line.split(',').collect();
-        let (Some(name), Some(t)) = (cols.get(ni), cols.get(ti)) else {
-            return Err(format!("{where_}: expected the columns name and t"));
-        };
-        let t: f64 = t
-            .trim()
-            .parse()
-            .map_err(|_| format!("{where_}: '{}' is not a number", t.trim()))?;
-        push(where_, name, t)?;
-    }
-    Ok(out)
 }
 
 #[cfg(test)]

@@ -27,6 +27,7 @@ mod check_stream;
 mod compare;
 pub mod convergence;
 pub mod dense;
+pub mod detected;
 pub mod digits;
 pub mod drift_growth;
 pub mod ensemble;
@@ -42,6 +43,8 @@ pub mod reference;
 pub mod rounded_explicit;
 pub mod rounded_reference;
 pub mod shard;
+pub mod threads;
+pub mod times_file;
 
 pub use analysis::{analyse, Analysis, NoObserver, Observer, RunInfo};
 pub use bench::{

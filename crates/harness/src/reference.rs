@@ -48,8 +48,8 @@ pub fn check_times(times: &[f64]) -> Result<(), String> {
             return Err(format!(
                 "times must be strictly increasing: time {} ({}) does not come after {}",
                 k + 2,
-                w[1],
-                w[0]
+                rsts_dynamics::shown(w[1]),
+                rsts_dynamics::shown(w[0])
             ));
         }
     }

@@ -232,10 +232,11 @@ fn forty_motions_in_four_shards_merge_into_the_unsharded_report() {
     use rsts_harness::shard::{digest, Shard};
 
     let request = |repeats: usize| BenchRequest {
-        case: Case {
-            t_end: 2.0,
-            samples: 5,
-            ..Case::default_i_plus()
+        case: {
+            let mut c = Case::default_i_plus();
+            c.t_end = rsts_closed_form::Decimal::from_f64(2.0 as f64).unwrap();
+            c.samples = 5;
+            c
         },
         methods: [MethodName::Dop853, MethodName::TaylorF64]
             .map(BenchMethod::BuiltIn)

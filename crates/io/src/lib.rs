@@ -8,7 +8,9 @@
 //! value is dropped uncommitted, and [`remove_temporaries`] removes those still open (call it from
 //! a Ctrl-C handler before exiting).
 //!
-//! [`check_writable`] tells, before long work starts, whether a target can be written.
+//! [`check_writable`] tells, before long work starts, whether a target can be written;
+//! [`check_outputs`] that no output is an input; [`read_bounded`] reads an input whole only
+//! within a stated bound ([`inputs`]).
 //!
 //! Atomic replace is for regular files only. A target that is a character device (`/dev/null`,
 //! `/dev/stdout` on a terminal) or a FIFO is never renamed over: the bytes are staged in the
@@ -22,6 +24,12 @@ use std::io::{self, BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Mutex;
+
+pub mod inputs;
+pub use inputs::{
+    check_outputs, cut, human_bytes, open_bounded, read_bounded, read_stream_bounded,
+    read_text_bounded, Bounded, Input, Output,
+};
 
 /// Temporaries currently open in this process (removed by [`remove_temporaries`]).
 static OPEN: Mutex<BTreeSet<PathBuf>> = Mutex::new(BTreeSet::new());
@@ -164,6 +172,28 @@ fn check_device_writable(target: &Path) -> io::Result<()> {
     }
 }
 
+/// The system's temporary directory, where the bytes for a `target` written in place are
+/// staged, checked to be a directory (an error names TMPDIR, not the target, when it is not).
+fn check_staging_dir(target: &Path) -> io::Result<()> {
+    let dir = std::env::temp_dir();
+    if dir.is_dir() {
+        return Ok(());
+    }
+    Err(io::Error::new(
+        io::ErrorKind::NotFound,
+        format!(
+            "cannot stage the bytes for {} in the temporary directory {} ({}): it is not a \
+             directory; set TMPDIR to one",
+            target.display(),
+            dir.display(),
+            match std::env::var_os("TMPDIR") {
+                Some(_) => "TMPDIR",
+                None => "the default; TMPDIR is unset",
+            }
+        ),
+    ))
+}
+
 /// A fresh temporary name in the system's temporary directory for a target written in place.
 fn temporary_elsewhere(target: &Path) -> PathBuf {
     let name = target
@@ -188,7 +218,8 @@ fn context(e: io::Error, what: impl std::fmt::Display) -> io::Error {
 /// the file is written). Nothing is left behind, not even a directory.
 pub fn check_writable(target: &Path) -> io::Result<()> {
     if is_written_in_place(target)? {
-        return check_device_writable(target);
+        check_device_writable(target)?;
+        return check_staging_dir(target);
     }
     if target.is_dir() {
         return Err(io::Error::new(
@@ -263,6 +294,7 @@ impl AtomicFile {
         }
         let tmp = if in_place {
             check_device_writable(&target)?;
+            check_staging_dir(&target)?;
             temporary_elsewhere(&target)
         } else {
             let dir = parent_dir(&target);
@@ -277,7 +309,20 @@ impl AtomicFile {
                 .create_new(true)
                 .open(&tmp)
         })
-        .map_err(|e| context(e, format!("cannot create {}", target.display())))?;
+        .map_err(|e| {
+            if in_place {
+                context(
+                    e,
+                    format!(
+                        "cannot stage the bytes for {} in {} (TMPDIR)",
+                        target.display(),
+                        parent_dir(&tmp).display()
+                    ),
+                )
+            } else {
+                context(e, format!("cannot create {}", target.display()))
+            }
+        })?;
         Ok(Self {
             target,
             tmp,

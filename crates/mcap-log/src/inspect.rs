@@ -189,11 +189,29 @@ impl Scan {
     }
 }
 
+/// Largest log read (it is read whole): 2 GiB, the most one output file of rsts may hold.
+pub const MAX_LOG_BYTES: u64 = 2 << 30;
+
 fn read_file(path: &Path) -> Result<Vec<u8>, InspectError> {
-    let buf = std::fs::read(path).map_err(|source| InspectError::Io {
+    let io = |source| InspectError::Io {
         path: path.to_path_buf(),
         source,
-    })?;
+    };
+    // The magic first: a file (or a device) that is not MCAP is refused before the rest is read.
+    let mut input = rsts_io::open_bounded(path, MAX_LOG_BYTES, "an MCAP log").map_err(io)?;
+    let mut buf = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(&mut input, mcap::MAGIC.len() as u64),
+        &mut buf,
+    )
+    .map_err(io)?;
+    if buf.len() == mcap::MAGIC.len() && buf.starts_with(mcap::MAGIC) {
+        let size = std::fs::metadata(path)
+            .ok()
+            .filter(|m| m.is_file())
+            .map(|m| m.len());
+        input.read_all(&mut buf, size).map_err(io)?;
+    }
     if buf.len() < mcap::MAGIC.len() {
         let n = buf.len();
         let reason = if n > 0 && mcap::MAGIC.starts_with(&buf) {

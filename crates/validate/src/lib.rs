@@ -68,6 +68,9 @@ pub fn validate(
     progress: &(dyn Fn(&RunResult) + Sync),
 ) -> Result<Report, ValidateError> {
     let exec = opts.exec.as_ref().map(|(n, a)| (n.as_str(), a));
+    let mut inputs = vec![("--suite", opts.suite.as_path())];
+    inputs.extend(opts.baseline.as_deref().map(|b| ("--baseline", b)));
+    spare_inputs(&inputs, &opts.report_dir)?;
     let suite = Suite::load_with(&opts.suite, exec)?;
     // Read the baseline first: a missing one is an error before any work.
     let baseline = opts.baseline.as_deref().map(Report::read).transpose()?;
@@ -101,6 +104,9 @@ pub fn merge_dirs(
     out: &Path,
     baseline: Option<&Path>,
 ) -> Result<Report, ValidateError> {
+    let mut inputs: Vec<(&str, &Path)> = dirs.iter().map(|d| ("DIR", d.as_path())).collect();
+    inputs.extend(baseline.map(|b| ("--baseline", b)));
+    spare_inputs(&inputs, out)?;
     let baseline = baseline.map(Report::read).transpose()?;
     let dir = report_dir(out)?;
     let parts = dirs
@@ -113,6 +119,13 @@ pub fn merge_dirs(
     }
     write_all(&report, dir)?;
     Ok(report)
+}
+
+/// Refuse a report directory that is or holds one of the inputs (it is replaced whole: the
+/// input would be lost), before anything is read or run.
+fn spare_inputs(inputs: &[rsts_io::Input], dir: &Path) -> Result<(), ValidateError> {
+    rsts_io::check_outputs(inputs, &[rsts_io::Output::Dir("--report", dir)])
+        .map_err(|e| ValidateError::Usage(e.to_string()))
 }
 
 /// Start the report directory `dir` (written whole, see [`write_all`]): refused at once when it

@@ -16,6 +16,10 @@ use crate::ValidateError;
 
 /// Version of the report format.
 pub const FORMAT: u32 = 1;
+/// Largest report.json read (a baseline, a shard to merge): a report of the most runs a suite
+/// may have ([`crate::suite::MAX_RUNS`]) takes about 500 MiB (26 kB per run, the quick suite's
+/// average); it is parsed as a stream into the report, no copy of its text.
+pub const MAX_REPORT_BYTES: u64 = 1 << 30;
 /// An error counts as grown when it is this many times its baseline…
 pub const ERROR_GROWTH: f64 = 10.0;
 /// …and the baseline is above this (below it the figure is zero for all purposes).
@@ -134,14 +138,23 @@ impl Report {
         } else {
             path.to_path_buf()
         };
-        let text = std::fs::read_to_string(&file)
-            .map_err(|e| ValidateError::Io(format!("cannot read {}: {e}", file.display())))?;
-        let report: Report = serde_json::from_str(&text).map_err(|e| {
-            ValidateError::Usage(format!(
-                "{} is not a validation report: {e}",
-                file.display()
-            ))
-        })?;
+        let cannot = |e: &dyn std::fmt::Display| {
+            ValidateError::Io(format!("cannot read {}: {e}", file.display()))
+        };
+        // Read as a stream (no copy of the text): at most MAX_REPORT_BYTES.
+        let input =
+            rsts_io::open_bounded(&file, MAX_REPORT_BYTES, "a report").map_err(|e| cannot(&e))?;
+        let report: Report =
+            serde_json::from_reader(std::io::BufReader::new(input)).map_err(|e| {
+                if e.is_io() {
+                    cannot(&e)
+                } else {
+                    ValidateError::Usage(format!(
+                        "{} is not a validation report: {e}",
+                        file.display()
+                    ))
+                }
+            })?;
         if report.format != FORMAT {
             return Err(ValidateError::Usage(format!(
                 "{}: report format {} (this rsts reads {FORMAT})",

@@ -435,6 +435,10 @@ pub fn execute_all(
     jobs: usize,
     progress: &(dyn Fn(&RunResult) + Sync),
 ) -> Result<Vec<RunResult>, ValidateError> {
+    if jobs != 0 {
+        rsts_harness::threads::check_jobs(jobs)
+            .map_err(|e| ValidateError::Usage(format!("jobs: {e}")))?;
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
         .build()

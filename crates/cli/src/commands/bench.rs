@@ -249,7 +249,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         .map(str::parse)
         .transpose()
         .map_err(case_error)?;
-    args.output.check(&[])?;
+    // The program files an --exec command names are inputs no output may replace.
+    let files: Vec<PathBuf> = args
+        .exec
+        .iter()
+        .flat_map(|c| rsts_external::command_files(c))
+        .collect();
+    args.output.check("--exec", &files)?;
     let default_methods = [MethodName::Dop853, MethodName::TaylorF64];
     let given = match &args.methods {
         Some(m) => m.as_slice(),
@@ -323,21 +329,24 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
 }
 
 impl Outputs {
-    /// Refuse at once an output file that cannot be written or that is one of `inputs`.
-    fn check(&self, inputs: &[PathBuf]) -> anyhow::Result<()> {
-        for (option, path) in [
+    /// Refuse at once an output file that cannot be written, that is one of `inputs` (the same
+    /// file by device and inode: a path, a hard link or a symbolic link) or another output.
+    fn check(&self, what: &str, inputs: &[PathBuf]) -> anyhow::Result<()> {
+        let outputs: Vec<(&str, &PathBuf)> = [
             ("--svg", &self.svg),
             ("--svg-tolerance", &self.svg_tolerance),
             ("--json", &self.json),
-        ] {
-            let Some(path) = path else { continue };
-            if let Some(input) = inputs.iter().find(|i| same_file(i, path)) {
-                bail!(
-                    "{option} {}: that is the input {}, which would be lost; give another file",
-                    path.display(),
-                    input.display()
-                );
-            }
+        ]
+        .into_iter()
+        .filter_map(|(option, path)| path.as_ref().map(|p| (option, p)))
+        .collect();
+        let named: Vec<rsts_io::Input> = inputs.iter().map(|p| (what, p.as_path())).collect();
+        let files: Vec<rsts_io::Output> = outputs
+            .iter()
+            .map(|(option, p)| rsts_io::Output::File(option, p.as_path()))
+            .collect();
+        rsts_io::check_outputs(&named, &files)?;
+        for (option, path) in outputs {
             rsts_io::check_writable(path)
                 .with_context(|| format!("{option} {}", path.display()))?;
         }
@@ -392,15 +401,6 @@ impl Outputs {
             }
         }
         Ok(())
-    }
-}
-
-/// Whether `a` and `b` name the same existing file (the same device and inode).
-fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
-    use std::os::unix::fs::MetadataExt;
-    match (std::fs::metadata(a), std::fs::metadata(b)) {
-        (Ok(x), Ok(y)) => (x.dev(), x.ino()) == (y.dev(), y.ino()),
-        _ => false,
     }
 }
 

@@ -12,7 +12,7 @@ use serde::Serialize;
 use rsts_closed_form::{Decimal, Motion};
 use rsts_dynamics::State;
 use rsts_external::{F64Chunk, Survey, TrajectoryReader};
-use rsts_harness::events::{exact_event_times, match_events, parse_detected, EventMatchReport};
+use rsts_harness::events::{exact_event_times, match_events, read_detected, EventMatchReport};
 use rsts_harness::{CheckMotion, CheckReport, CheckRequest, CheckStream};
 
 use crate::args::{case_error, decimal, finite_f64, ExactFieldArgs};
@@ -269,14 +269,15 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
     // The motion given is checked before the file is read.
     request.validate().map_err(case_error)?;
     if let Some(path) = &args.mcap {
+        let mut inputs = vec![("FILE", args.file.as_path())];
+        inputs.extend(args.events.as_deref().map(|e| ("--events", e)));
+        rsts_io::check_outputs(&inputs, &[rsts_io::Output::File("--mcap", path)])?;
         rsts_io::check_writable(path).with_context(|| format!("--mcap {}", path.display()))?;
     }
     let detected = match &args.events {
         None => None,
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("--events {}", path.display()))?;
-            Some(parse_detected(&text).map_err(|e| anyhow!("--events {}: {e}", path.display()))?)
+            Some(read_detected(path).map_err(|e| anyhow!("--events {}: {e}", path.display()))?)
         }
     };
     let mut event_specs = crate::commands::events::parse_specs(&args.event)?;

@@ -317,6 +317,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             "the MCAP log",
             MCAP_BYTES_PER_SAMPLE * args.samples as f64,
         )?;
+        let files = args.exec.as_deref().map(rsts_external::command_files);
+        let inputs: Vec<_> = files
+            .iter()
+            .flatten()
+            .map(|f| ("--exec", f.as_path()))
+            .collect();
+        rsts_io::check_outputs(&inputs, &[rsts_io::Output::File("--mcap", path)])?;
         rsts_io::check_writable(path).with_context(|| format!("--mcap {}", path.display()))?;
     }
     if external.is_none() {

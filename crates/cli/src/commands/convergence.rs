@@ -142,6 +142,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         )?);
     }
     if let Some(path) = &args.svg {
+        let files: Vec<_> = args
+            .exec
+            .iter()
+            .flat_map(|c| rsts_external::command_files(c))
+            .collect();
+        let inputs: Vec<_> = files.iter().map(|f| ("--exec", f.as_path())).collect();
+        rsts_io::check_outputs(&inputs, &[rsts_io::Output::File("--svg", path)])?;
         rsts_io::check_writable(path).with_context(|| format!("--svg {}", path.display()))?;
     }
     let mut methods: Vec<&mut dyn FixedStepIntegrator> = Vec::new();

@@ -53,7 +53,7 @@ pub struct Args {
 fn range(s: &str) -> Result<(f64, f64), String> {
     let parts: Vec<&str> = s.split(',').collect();
     let [lo, hi] = parts[..] else {
-        return Err(format!("expected LO,HI, got '{s}'"));
+        return Err(format!("expected LO,HI, got '{}'", rsts_io::cut(s)));
     };
     let (lo, hi) = (finite_f64(lo)?, finite_f64(hi)?);
     if lo >= hi {

@@ -7,10 +7,10 @@ use std::io::Write;
 use anyhow::bail;
 use clap::Args as ClapArgs;
 
-use rsts_closed_form::events::{events_report, EventCase, EventSpec, Number};
+use rsts_closed_form::events::{EventCase, EventRecord, EventSpec, EventsRun, Number};
 
 use crate::args::{finite_f64, CaseArgs};
-use crate::output::{self, Cell, Format, Tabular};
+use crate::output::{self, Cell, Format};
 
 /// Largest number of digits accepted.
 pub const MAX_DIGITS: u32 = 10_000;
@@ -57,9 +57,13 @@ pub fn parse_specs(raw: &[String]) -> anyhow::Result<Vec<EventSpec>> {
     for s in raw {
         let spec: EventSpec = s
             .parse()
-            .map_err(|e| anyhow::anyhow!("--event '{s}': {e}"))?;
+            .map_err(|e| anyhow::anyhow!("--event '{}': {e}", rsts_io::cut(s)))?;
         if specs.iter().any(|p| p.name == spec.name) {
-            bail!("--event '{s}': {} is asked for twice", spec.name);
+            bail!(
+                "--event '{}': {} is asked for twice",
+                rsts_io::cut(s),
+                spec.name
+            );
         }
         specs.push(spec);
     }
@@ -76,8 +80,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if args.t_end <= args.t_start {
         bail!(
             "--t-end: the window (t_start, t_end] = ({}, {}] is empty: need --t-end > --t-start",
-            args.t_start,
-            args.t_end
+            rsts_dynamics::shown(args.t_start),
+            rsts_dynamics::shown(args.t_end)
         );
     }
     let c = &args.case;
@@ -88,7 +92,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         digits: args.digits,
         camera: String::new(),
     };
-    let report = events_report(case, &specs).map_err(crate::args::case_error)?;
+    // The motion is built and the window checked; the output is sized before any event is
+    // computed, then written as the events are found.
+    let run = EventsRun::new(case, &specs).map_err(crate::args::case_error)?;
+    output::check_output_bytes("--t-end/--event/--digits", "the events", run.most_bytes())?;
     // The state columns after t, as in every state CSV of rsts; then the event's name and
     // direction (`check --events` reads this file as it is).
     let names: Vec<String> = ["omega", "alpha", "beta"]
@@ -103,69 +110,104 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         Number::Decimal(_) if table => Cell::Num(x.to_f64()),
         Number::Decimal(s) => Cell::Text(s.clone()),
     };
-    let rows = |table: bool| {
-        report.events.iter().map(move |e| {
-            let mut row = vec![match &e.t {
-                // The time in full, also in the table.
-                Number::F64(v) => Cell::Text(format!("{v:?}")),
-                Number::Decimal(s) => Cell::Text(s.clone()),
-            }];
-            for v in [&e.state.omega, &e.state.alpha, &e.state.beta] {
-                row.extend(v.iter().map(|x| cell(x, table)));
-            }
-            row.push(Cell::Text(e.name.clone()));
-            row.push(Cell::Text(e.direction.as_str().to_string()));
-            row
-        })
+    let row = |e: &EventRecord, table: bool| {
+        let mut row = vec![match &e.t {
+            // The time in full, also in the table.
+            Number::F64(v) => Cell::Text(format!("{v:?}")),
+            Number::Decimal(s) => Cell::Text(s.clone()),
+        }];
+        for v in [&e.state.omega, &e.state.alpha, &e.state.beta] {
+            row.extend(v.iter().map(|x| cell(x, table)));
+        }
+        row.push(Cell::Text(e.name.clone()));
+        row.push(Cell::Text(e.direction.as_str().to_string()));
+        row
     };
+    let k = run.case();
     match args.format {
-        Format::Json => output::write_json(out, &report)?,
-        Format::Csv => output::write_csv_rows(
-            out,
-            &header.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
-            rows(false),
-        )?,
+        Format::Json => {
+            let mut doc = output::StreamedJson::start(out, &[("case", k)], "events")?;
+            run.for_each(|e| Ok::<(), Stop>(doc.item(out, &e)?))
+                .map_err(|s| s.0)?;
+            doc.finish(out)?;
+        }
+        Format::Csv => {
+            let header: Vec<String> = header.iter().map(|s| s.to_string()).collect();
+            output::write_csv_header(out, &header)?;
+            let mut r = 0;
+            run.for_each(|e| {
+                output::write_csv_row(out, &header, r, &row(&e, false))?;
+                r += 1;
+                Ok::<(), Stop>(())
+            })
+            .map_err(|s| s.0)?;
+        }
         Format::Table => {
-            let k = &report.case;
             let asked: Vec<String> = specs
                 .iter()
                 .map(|s| format!("{}:{}", s.name, s.direction.as_str()))
                 .collect();
-            output::write_key_values(
-                out,
-                &[
-                    ("camera", k.camera.clone()),
-                    (
-                        "a, b, m, h",
-                        format!(
-                            "{}, {}, {}, {}",
-                            k.motion.a, k.motion.b, k.motion.m, k.motion.h
-                        ),
+            let items = [
+                ("camera", k.camera.clone()),
+                (
+                    "a, b, m, h",
+                    format!(
+                        "{}, {}, {}, {}",
+                        k.motion.a, k.motion.b, k.motion.m, k.motion.h
                     ),
-                    (
-                        "torus, phases",
-                        format!(
-                            "{}, ({}, {})",
-                            k.motion.torus, k.motion.phase1, k.motion.phase2
-                        ),
+                ),
+                (
+                    "torus, phases",
+                    format!(
+                        "{}, ({}, {})",
+                        k.motion.torus, k.motion.phase1, k.motion.phase2
                     ),
-                    ("window", format!("({}, {}]", k.t_start, k.t_end)),
-                    ("events asked", asked.join(" ")),
-                    (
-                        "digits",
-                        k.digits
-                            .map_or("f64 (correctly rounded)".into(), |d| d.to_string()),
-                    ),
-                    ("events found", report.events.len().to_string()),
-                ],
-            )?;
+                ),
+                ("window", format!("({}, {}]", k.t_start, k.t_end)),
+                ("events asked", asked.join(" ")),
+                (
+                    "digits",
+                    k.digits
+                        .map_or("f64 (correctly rounded)".into(), |d| d.to_string()),
+                ),
+            ];
+            let width = items
+                .iter()
+                .map(|(k, _)| k.chars().count())
+                .max()
+                .unwrap_or(0);
+            output::write_key_values_at(out, &items, width)?;
             writeln!(out)?;
-            let mut table = Tabular::new(header.iter().copied());
-            for row in rows(true) {
-                table.push(row);
-            }
-            output::write_table(out, &table)?;
+            // Columns as wide as their widest value: the time in full, the state readable.
+            let t_width = k.digits.map_or(24, |d| d as usize + 12);
+            let mut widths = vec![t_width];
+            widths.extend([output::READABLE_WIDTH; 9]);
+            widths.extend([6, 7]);
+            let mut table = output::StreamedTable::start(out, &header, &widths)?;
+            let mut found = 0usize;
+            run.for_each(|e| {
+                table.row(out, &row(&e, true))?;
+                found += 1;
+                Ok::<(), Stop>(())
+            })
+            .map_err(|s| s.0)?;
+            output::write_key_values_at(out, &[("events found", found.to_string())], width)?;
         }
     }
     Ok(())
+}
+
+/// What stops the events being written: the search (an error naming its option) or the output.
+struct Stop(anyhow::Error);
+
+impl From<rsts_closed_form::ClosedFormError> for Stop {
+    fn from(e: rsts_closed_form::ClosedFormError) -> Self {
+        Stop(crate::args::case_error(e))
+    }
+}
+
+impl From<std::io::Error> for Stop {
+    fn from(e: std::io::Error) -> Self {
+        Stop(e.into())
+    }
 }

@@ -164,7 +164,8 @@ fn short(s: &str) -> String {
 
 /// Read a decimal at `bits`, naming the option on failure.
 fn read<T: Real>(name: &str, s: &str, bits: u32) -> anyhow::Result<T> {
-    let x = T::parse(s, bits).with_context(|| format!("--{name}: '{s}' is not a number"))?;
+    let x = T::parse(s, bits)
+        .with_context(|| format!("--{name}: '{}' is not a number", rsts_io::cut(s)))?;
     if !x.is_finite() {
         bail!("--{name}: must be a finite number, got {s}");
     }

@@ -80,31 +80,15 @@ pub struct Args {
     pub jobs: JobsArgs,
 }
 
-/// Read a times file: numbers separated by whitespace, commas or newlines; `#` starts a comment.
-fn read_times_file(path: &PathBuf) -> anyhow::Result<Vec<f64>> {
-    let name = path.display();
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("--times-file {name}: cannot read"))?;
-    let mut times = Vec::new();
-    for (k, line) in text.lines().enumerate() {
-        let line = line.split('#').next().unwrap_or("");
-        for word in line
-            .split([',', ' ', '\t'])
-            .filter(|w| !w.trim().is_empty())
-        {
-            let t = finite_f64(word)
-                .map_err(|e| anyhow!("--times-file {name}: line {}: {e}", k + 1))?;
-            times.push(t);
-        }
-    }
-    Ok(times)
-}
-
 /// The requested times, checked.
 fn times(args: &Args) -> anyhow::Result<Vec<f64>> {
     let (times, what) = match (&args.times, &args.times_file, args.t_end, args.samples) {
         (Some(t), _, _, _) => (t.clone(), "--times"),
-        (None, Some(path), _, _) => (read_times_file(path)?, "--times-file"),
+        (None, Some(path), _, _) => (
+            rsts_harness::times_file::read_times_file(path)
+                .map_err(|e| anyhow!("--times-file {}: {e}", path.display()))?,
+            "--times-file",
+        ),
         (None, None, Some(t_end), Some(n)) => {
             if n > MAX_SAMPLES {
                 bail!("--samples: at most {MAX_SAMPLES} samples are supported, got {n}");
@@ -128,6 +112,12 @@ fn bytes_per_value(format: RefFormat, digits: Option<u32>) -> f64 {
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
+    if let (Some(input), Some(output)) = (&args.times_file, &args.output) {
+        rsts_io::check_outputs(
+            &[("--times-file", input)],
+            &[rsts_io::Output::File("-o", output)],
+        )?;
+    }
     let times = times(&args)?;
     let digits = check_digits(args.digits.map(i64::from)).map_err(|e| anyhow!("--digits: {e}"))?;
     if digits.is_some() && args.format == RefFormat::Npy {

@@ -116,7 +116,10 @@ pub struct Args {
 fn pair(s: &str) -> Result<(f64, f64), String> {
     let parts: Vec<&str> = s.split(',').collect();
     let [p, q] = parts[..] else {
-        return Err(format!("expected two numbers PSI1,PSI2, got '{s}'"));
+        return Err(format!(
+            "expected two numbers PSI1,PSI2, got '{}'",
+            rsts_io::cut(s)
+        ));
     };
     Ok((finite_f64(p)?, finite_f64(q)?))
 }

@@ -43,9 +43,6 @@ Examples:
 Exit code 1 names every run that missed a threshold or regressed (error grown 10x, time grown 2x);
 exit code 2 is bad input (suite, shard, missing baseline). See docs/validation.md.";
 
-/// Most threads per core `--jobs` may ask for (each holds a run's closed form and series).
-pub const MAX_JOBS_PER_CORE: usize = 8;
-
 /// Options of `rsts validate`.
 #[derive(Debug, Clone, ClapArgs)]
 #[command(args_conflicts_with_subcommands = true)]
@@ -211,14 +208,8 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let Some(report_dir) = args.report else {
         bail!("--report DIR is required");
     };
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let max_jobs = MAX_JOBS_PER_CORE * cores;
-    match args.jobs {
-        Some(0) => bail!("--jobs must be at least 1"),
-        Some(j) if j > max_jobs => bail!(
-            "--jobs: at most {max_jobs} threads ({MAX_JOBS_PER_CORE} per core on this machine's {cores}); more only add memory, got {j}"
-        ),
-        _ => {}
+    if let Some(j) = args.jobs {
+        rsts_harness::threads::check_jobs(j).map_err(|e| anyhow::anyhow!("--jobs: {e}"))?;
     }
     let opts = Options {
         suite,

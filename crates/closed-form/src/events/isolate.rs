@@ -104,10 +104,17 @@ pub fn zeros(
     settings: Settings,
     tol: &Float,
 ) -> Result<Vec<Zero>, String> {
+    let n = grid_cells(t0, t1, settings)?;
+    Ok(zeros_in_cells(f, t0, t1, n, 0..n, settings, tol))
+}
+
+/// The cells of the grid on (t₀, t₁]: ⌈(t₁ − t₀)/h₀⌉ (0 for an empty window); an error when
+/// more than `max_cells`.
+pub fn grid_cells(t0: &Float, t1: &Float, settings: Settings) -> Result<u32, String> {
     let bits = t0.prec();
     let width = Float::with_val(bits, t1 - t0).to_f64();
     if width.is_nan() || width <= 0.0 {
-        return Ok(Vec::new());
+        return Ok(0);
     }
     let cells = (width / settings.h0).ceil().max(1.0);
     if cells.is_nan() || cells > settings.max_cells as f64 {
@@ -116,18 +123,41 @@ pub fn zeros(
             settings.h0, settings.max_cells
         ));
     }
-    let n = cells as u32;
-    let at = |k: u32| -> Float {
-        if k == n {
-            t1.clone()
-        } else {
-            Float::with_val(bits, t1 - t0) * k / n + t0
-        }
-    };
+    Ok(cells as u32)
+}
+
+/// Point `k` of the grid of `n` cells on [t₀, t₁] (t₀ for 0, t₁ for n): the same number
+/// whichever part of the grid is asked for.
+pub fn grid_point(t0: &Float, t1: &Float, n: u32, k: u32) -> Float {
+    match k {
+        0 => t0.clone(),
+        k if k == n => t1.clone(),
+        k => Float::with_val(t0.prec(), t1 - t0) * k / n + t0,
+    }
+}
+
+/// The zeros of g in the cells `cells` (cell c is (point c, point c + 1], numbered from 0) of
+/// the grid of `n` cells on (t₀, t₁], in time order: the zeros [`zeros`] finds in those cells,
+/// the same numbers (each cell is settled from its own ends), so that a long window can be done
+/// a part at a time.
+pub fn zeros_in_cells(
+    f: &mut dyn FnMut(&Float) -> Jet,
+    t0: &Float,
+    t1: &Float,
+    n: u32,
+    cells: std::ops::Range<u32>,
+    settings: Settings,
+    tol: &Float,
+) -> Vec<Zero> {
+    let end = cells.end.min(n);
+    if cells.start >= end {
+        return Vec::new();
+    }
     let mut found = Vec::new();
-    let mut left = (t0.clone(), f(t0));
-    for k in 1..=n {
-        let t = at(k);
+    let start = grid_point(t0, t1, n, cells.start);
+    let mut left = (start.clone(), f(&start));
+    for c in cells.start..end {
+        let t = grid_point(t0, t1, n, c + 1);
         let right = (t.clone(), f(&t));
         let mut stack = vec![(left.clone(), right.clone())];
         while let Some((a, b)) = stack.pop() {
@@ -139,7 +169,7 @@ pub fn zeros(
         left = right;
     }
     found.sort_by(|p: &Zero, q: &Zero| p.t.partial_cmp(&q.t).unwrap_or(std::cmp::Ordering::Equal));
-    Ok(found)
+    found
 }
 
 type Point = (Float, Jet);
@@ -334,6 +364,48 @@ mod tests {
                 assert_eq!(z[0].kind, Kind::Tangent);
                 assert!(Float::with_val(BITS, &z[0].t - 1u32).abs().to_f64() < 1e-25);
             }
+        }
+    }
+
+    /// A window done a few cells at a time gives the zeros of the whole window, bit for bit.
+    #[test]
+    fn parts_of_the_grid_give_the_same_zeros() {
+        let mut sine = |t: &Float| Jet {
+            g: Float::with_val(BITS, t.sin_ref()),
+            d: Float::with_val(BITS, t.cos_ref()),
+            c: -Float::with_val(BITS, t.sin_ref()),
+        };
+        let s = Settings {
+            h0: 0.3,
+            m2: 1.0,
+            m3: 1.0,
+            max_cells: 1000,
+        };
+        let (t0, t1) = (fl(-0.1), fl(40.0));
+        let whole = zeros(&mut sine, &t0, &t1, s, &fl(1e-50)).unwrap();
+        assert_eq!(whole.len(), 13, "0, π, …, 12π");
+        let n = grid_cells(&t0, &t1, s).unwrap();
+        for part in [1, 7, 64] {
+            let mut pieces = Vec::new();
+            let mut c = 0;
+            while c < n {
+                pieces.extend(zeros_in_cells(
+                    &mut sine,
+                    &t0,
+                    &t1,
+                    n,
+                    c..c + part,
+                    s,
+                    &fl(1e-50),
+                ));
+                c += part;
+            }
+            let same = pieces.len() == whole.len()
+                && pieces
+                    .iter()
+                    .zip(&whole)
+                    .all(|(p, w)| p.t == w.t && p.kind == w.kind);
+            assert!(same, "{part} cells at a time: {pieces:?}");
         }
     }
 

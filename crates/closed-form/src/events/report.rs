@@ -4,9 +4,9 @@
 use rug::Float;
 use serde::Serialize;
 
-use super::{exact_events, working_bits, Crossing, EventSpec, ExactEvent};
+use super::{working_bits, Crossing, EventSearch, EventSpec, ExactEvent};
 use crate::error::ClosedFormError;
-use crate::motion::Motion;
+use crate::motion::{ExplicitMotion, Motion};
 use rsts_dynamics::Real;
 
 /// A number of the report: f64 (correctly rounded from the working precision) or a decimal
@@ -90,20 +90,77 @@ impl EventRecord {
 /// The exact events of `specs` along the motion of `case` in (t_start, t_end], at `case.digits`
 /// digits (plus guard bits) or correctly rounded to f64.
 pub fn events_report(
-    mut case: EventCase,
+    case: EventCase,
     specs: &[EventSpec],
 ) -> Result<EventsReport, ClosedFormError> {
-    let bits = working_bits(case.digits);
-    let f = |x: f64| Float::with_val(bits, x);
-    let t_max = case.t_start.abs().max(case.t_end.abs());
-    let motion = case.motion.explicit::<Float>(bits, t_max)?;
-    case.camera = motion.camera.label().to_string();
-    let events = exact_events(&motion, specs, &f(case.t_start), &f(case.t_end))?;
+    let run = EventsRun::new(case, specs)?;
+    let mut events = Vec::new();
+    run.for_each(|e| {
+        events.push(e);
+        Ok::<(), ClosedFormError>(())
+    })?;
     Ok(EventsReport {
-        events: events
-            .iter()
-            .map(|e| EventRecord::new(e, case.digits))
-            .collect(),
-        case,
+        case: run.case,
+        events,
     })
+}
+
+/// Bytes one event takes in any output of `rsts events` (CSV, JSON, table) at `digits` (`None`:
+/// f64): ten numbers of the digits and up to 24 characters of sign, point, exponent, key and
+/// separator each, and 200 of name, direction and layout. An honest bound, a little generous.
+pub fn bytes_per_event(digits: Option<u32>) -> u64 {
+    10 * (u64::from(digits.unwrap_or(17)) + 24) + 200
+}
+
+/// The events of one case, ready to be found piece by piece ([`EventSearch`]): the motion is
+/// built and the window checked by [`EventsRun::new`]; [`EventsRun::most_events`] says how many
+/// events there may be before any is computed; [`EventsRun::for_each`] hands them on in time
+/// order as they are found (memory does not grow with the window).
+pub struct EventsRun {
+    case: EventCase,
+    motion: ExplicitMotion<Float>,
+    search: EventSearch,
+}
+
+impl EventsRun {
+    /// The motion of `case` at its digits and the search of `specs` in its window, checked.
+    pub fn new(mut case: EventCase, specs: &[EventSpec]) -> Result<Self, ClosedFormError> {
+        let bits = working_bits(case.digits);
+        let f = |x: f64| Float::with_val(bits, x);
+        let t_max = case.t_start.abs().max(case.t_end.abs());
+        let motion = case.motion.explicit::<Float>(bits, t_max)?;
+        case.camera = motion.camera.label().to_string();
+        let search = EventSearch::new(&motion, specs, &f(case.t_start), &f(case.t_end))?;
+        Ok(Self {
+            case,
+            motion,
+            search,
+        })
+    }
+
+    /// The case, its camera filled in.
+    pub fn case(&self) -> &EventCase {
+        &self.case
+    }
+
+    /// The most events the run may find ([`EventSearch::most_events`]; it stops past it).
+    pub fn most_events(&self) -> f64 {
+        self.search.most_events()
+    }
+
+    /// The most bytes the events take in an output: [`EventsRun::most_events`] ×
+    /// [`bytes_per_event`].
+    pub fn most_bytes(&self) -> f64 {
+        self.most_events() * bytes_per_event(self.case.digits) as f64
+    }
+
+    /// Every event in time order, handed to `sink` as found.
+    pub fn for_each<E: From<ClosedFormError>>(
+        &self,
+        mut sink: impl FnMut(EventRecord) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let digits = self.case.digits;
+        self.search
+            .for_each(&self.motion, |e| sink(EventRecord::new(&e, digits)))
+    }
 }

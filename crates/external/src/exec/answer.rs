@@ -7,8 +7,9 @@ use serde_json::Value;
 use rsts_dynamics::integrators::Stats;
 use rsts_harness::HarnessError;
 
+use super::answer_doc::AnswerDoc;
 use super::Exec;
-use crate::files::{parse_csv, parse_json};
+use crate::files::parse_csv;
 
 impl Exec {
     /// Parse an answer for `times` into states at `bits` bits.
@@ -39,17 +40,18 @@ impl Exec {
         let mut answered_events = None;
         let mut answered_dense = None;
         let (raw, stats) = if text.trim_start().starts_with('{') {
-            let doc: Value =
-                serde_json::from_str(text).map_err(|e| garbage(format!("invalid JSON: {e}")))?;
-            if let Some(name) = doc.get("name") {
+            // Read as a stream: only the samples asked for (and the dense ones) are kept.
+            let doc = AnswerDoc::read(stdout, times.len())
+                .map_err(|e| garbage(format!("invalid JSON: {e}")))?;
+            if let Some(name) = &doc.name {
                 let name = name
                     .as_str()
                     .filter(|s| !s.trim().is_empty())
                     .ok_or_else(|| garbage("\"name\" must be a non-empty string".into()))?;
                 answered = Some(name.to_string());
             }
-            let stats = parse_stats(doc.get("stats")).map_err(garbage)?;
-            if let Some(d) = doc.get("digits").filter(|d| !d.is_null()) {
+            let stats = parse_stats(doc.stats.as_ref()).map_err(garbage)?;
+            if let Some(d) = doc.digits.as_ref().filter(|d| !d.is_null()) {
                 let d = d
                     .as_u64()
                     .filter(|d| (1..=10_000).contains(d))
@@ -59,17 +61,39 @@ impl Exec {
                 digits = Some(d as u32);
             }
             if let Some(k) = self.dense {
-                answered_dense =
-                    Some(crate::dense::parse_dense(&doc, k).map_err(|e| self.fail(e, stderr))?);
+                let t_end = times.last().copied().unwrap_or(0.0);
+                answered_dense = Some(
+                    crate::dense::dense_of_answer(&doc, k, t_end)
+                        .map_err(|e| self.fail(e, stderr))?,
+                );
             }
-            if let Some(v) = doc.get("version").filter(|v| !v.is_null()) {
+            if let Some(v) = doc.version.as_ref().filter(|v| !v.is_null()) {
                 version = Some(check_version(v).map_err(garbage)?);
             }
-            answered_events = match doc.get("events") {
+            answered_events = match doc.events {
                 None => None,
-                Some(v) => Some(parse_events(v).map_err(garbage)?),
+                Some(events) => Some(events.map_err(garbage)?),
             };
-            (parse_json(&doc).map_err(garbage)?, stats)
+            let samples = doc.samples.ok_or_else(|| {
+                garbage(
+                    "expected an object with \"samples\": [{\"t\", \"omega\", \"alpha\", \"beta\"}, ...]"
+                        .to_string(),
+                )
+            })?;
+            if let Some(e) = samples.error {
+                return Err(garbage(e));
+            }
+            if samples.count != times.len() {
+                return Err(self.fail(
+                    format_args!(
+                        "it answered {} samples for {} requested times",
+                        samples.count,
+                        times.len()
+                    ),
+                    stderr,
+                ));
+            }
+            (samples.raw, stats)
         } else {
             (parse_csv(text).map_err(garbage)?, (None, None, None))
         };
@@ -134,8 +158,26 @@ type AnswerStats = (Option<u64>, Option<u64>, Option<f64>);
 /// Longest `"version"` an answer may carry (characters).
 pub const MAX_VERSION_CHARS: usize = 200;
 
+/// Characters that change how the text around them is shown: the bidirectional embeddings,
+/// overrides and isolates (U+202A–U+202E, U+2066–U+2069, and the marks U+200E, U+200F, U+061C)
+/// and the line and paragraph separators (U+2028, U+2029). A version holding one could print as
+/// another or break a table line.
+pub fn is_format_control(c: char) -> bool {
+    matches!(
+        c,
+        '\u{202A}'..='\u{202E}'
+            | '\u{2066}'..='\u{2069}'
+            | '\u{200E}'
+            | '\u{200F}'
+            | '\u{061C}'
+            | '\u{2028}'
+            | '\u{2029}'
+    )
+}
+
 /// `version` of an answer: a non-empty string of at most [`MAX_VERSION_CHARS`] characters,
-/// without control characters (it is printed in tables).
+/// without control characters, bidirectional controls or line separators
+/// ([`is_format_control`]; it is printed in tables).
 fn check_version(v: &Value) -> Result<String, String> {
     let s = v
         .as_str()
@@ -148,32 +190,14 @@ fn check_version(v: &Value) -> Result<String, String> {
             s.chars().count()
         ));
     }
-    if s.chars().any(char::is_control) {
-        return Err("\"version\" must not hold control characters".into());
+    if let Some(c) = s.chars().find(|&c| c.is_control() || is_format_control(c)) {
+        return Err(format!(
+            "\"version\" must not hold control characters, bidirectional controls or line \
+             separators (it holds U+{:04X})",
+            c as u32
+        ));
     }
     Ok(s.to_string())
-}
-
-/// `events` of an answer: `[{"name", "t"}]`, t a number or a decimal string.
-fn parse_events(v: &Value) -> Result<Vec<(String, f64)>, String> {
-    let list = v.as_array().ok_or("\"events\" must be an array")?;
-    list.iter()
-        .enumerate()
-        .map(|(i, e)| {
-            let name = e.get("name").and_then(Value::as_str);
-            let t = match e.get("t") {
-                Some(Value::Number(n)) => n.as_f64(),
-                Some(Value::String(s)) => s.trim().parse().ok(),
-                _ => None,
-            };
-            match (name, t) {
-                (Some(n), Some(t)) if t.is_finite() => Ok((n.to_string(), t)),
-                _ => Err(format!(
-                    "events[{i}] needs a \"name\" string and a finite \"t\""
-                )),
-            }
-        })
-        .collect()
 }
 
 /// `stats` of an answer: every field optional, numbers or decimal strings (read as a JSON
@@ -195,6 +219,23 @@ pub fn max_answer(samples: usize, digits: u32) -> usize {
 mod tests {
     use super::*;
     use serde_json::json;
+    /// Bidirectional controls and line separators are refused like control characters.
+    #[test]
+    fn versions_cannot_reorder_or_break_a_line() {
+        assert_eq!(check_version(&json!(" 1.2.3 ")).unwrap(), "1.2.3");
+        for bad in [
+            "1.0\u{202E}3.2",
+            "a\u{2028}b",
+            "x\u{2066}y",
+            "v\u{200F}",
+            "1\u{7}",
+        ] {
+            let e = check_version(&json!(bad)).unwrap_err();
+            assert!(e.contains("must not hold"), "{bad:?}: {e}");
+        }
+        assert!(check_version(&json!("Ünïcode 1.0 — ok")).is_ok());
+    }
+
     #[test]
     fn stats_are_optional_numbers_or_strings() {
         let s = parse_stats(Some(

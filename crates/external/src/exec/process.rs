@@ -81,6 +81,18 @@ pub fn check_program(program: &str) -> Result<(), String> {
     }
 }
 
+/// The files an external command names: its words that are existing files (the program, a
+/// script given to an interpreter). They are inputs of the run: no output may replace them
+/// ([`rsts_io::check_outputs`]). A command that cannot be split names none.
+pub fn command_files(command: &str) -> Vec<std::path::PathBuf> {
+    split_command(command)
+        .unwrap_or_default()
+        .into_iter()
+        .map(std::path::PathBuf::from)
+        .filter(|p| p.is_file())
+        .collect()
+}
+
 /// Split a command line like a POSIX shell would (quotes, backslashes), without running a shell.
 pub fn split_command(command: &str) -> Result<Vec<String>, String> {
     let argv = shlex::split(command).ok_or_else(|| {

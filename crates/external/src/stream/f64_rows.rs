@@ -11,8 +11,8 @@ use super::{
 };
 use crate::files::{npy_row, unquote, CsvHeader, COLUMNS};
 use crate::samples::{
-    check_component, comes_after, not_after, significant_digits, significant_digits_of_bytes,
-    text_f64, Number, RawTrajectory, F64_TEXT_DIGITS,
+    check_component, comes_after, significant_digits, significant_digits_of_bytes, text_f64,
+    time_order, Number, RawTrajectory, F64_TEXT_DIGITS,
 };
 
 /// Samples read as f64 numbers: times and states (ω, α, β).
@@ -22,7 +22,9 @@ pub struct F64Chunk {
     pub states: Vec<[f64; 9]>,
     /// The most significant digits of any value (0: all binary64).
     pub digits: usize,
-    /// Where the first value of more than 17 significant digits is (high-precision data).
+    /// Where the first value of more than 17 significant digits is (high-precision data) — or,
+    /// in a file read in one pass, the first time that only high-precision data tell apart from
+    /// the one before (two decimals of one double): either way the file is read again, surveyed.
     pub long_at: Option<String>,
 }
 
@@ -128,10 +130,28 @@ impl TrajectoryReader {
             else {
                 break;
             };
-            let after = row.t > previous.t
-                || (row.t == previous.t && comes_after(&previous.time(), &row.time()));
-            if has_previous && !after && out_of_order.is_none() {
-                out_of_order = Some(not_after(&place.show(), &row.time(), &previous.time()));
+            if has_previous && out_of_order.is_none() {
+                // A time given as a text that is not 0 but reads as 0.0 is checked by time_order.
+                let underflow = row.t == 0.0 && !row.t_text.is_empty();
+                let ordered = row.t > previous.t && !underflow;
+                if ordered {
+                    // The usual case: nothing to say.
+                } else if row.t == previous.t
+                    && !underflow
+                    && self.reread_if_long
+                    && comes_after(&previous.time(), &row.time())
+                {
+                    // One double, two decimals: only high-precision data tell them apart, and a
+                    // file read in one pass is f64 data only until a long value shows up. It is
+                    // read again, surveyed, where the rule is decided for the whole file.
+                    if chunk.long_at.is_none() {
+                        chunk.long_at = Some(place.show());
+                    }
+                } else if let Err(e) =
+                    time_order(&previous.time(), &row.time(), false, &place.show())
+                {
+                    out_of_order = Some(e);
+                }
             }
             chunk.times.push(row.t);
             chunk.states.push(row.x);

@@ -99,7 +99,7 @@ impl Suite {
         exec: Option<(&str, &AdapterSpec)>,
     ) -> Result<Suite, ValidateError> {
         let mut file: SuiteFile =
-            toml::from_str(text).map_err(|e| ValidateError::Suite(format!("{e}")))?;
+            toml::from_str(text).map_err(|e| ValidateError::Suite(toml_error(text, &e)))?;
         if let Some((name, adapter)) = exec {
             file.adapters.insert(name.to_string(), adapter.clone());
             // Convergence cases hold the built-ins' orders (their min_order is a built-in's).
@@ -203,4 +203,54 @@ fn finite(what: &str, name: &str, v: f64) -> Result<f64, ValidateError> {
             "{what}: {name} must be a finite number, got {v}"
         )))
     }
+}
+
+/// A TOML error as one short message: where (line, column), what (quoted values cut at 40
+/// characters), and the line around the place (40 characters either side) — not the whole line
+/// (one of 200 kB used to be printed, twice).
+fn toml_error(text: &str, e: &toml::de::Error) -> String {
+    let message = cut_quoted(e.message().trim());
+    let Some(span) = e.span() else {
+        return message;
+    };
+    let at = span.start.min(text.len());
+    let at = (0..=at)
+        .rev()
+        .find(|&k| text.is_char_boundary(k))
+        .unwrap_or(0);
+    let line_start = text[..at].rfind('\n').map_or(0, |k| k + 1);
+    let line_end = text[at..].find('\n').map_or(text.len(), |k| at + k);
+    let line_no = text[..at].matches('\n').count() + 1;
+    let before: Vec<char> = text[line_start..at].chars().collect();
+    let after: Vec<char> = text[at..line_end].chars().collect();
+    let column = before.len() + 1;
+    const SIDE: usize = 40;
+    let head: String = before[before.len().saturating_sub(SIDE)..].iter().collect();
+    let tail: String = after[..after.len().min(SIDE)].iter().collect();
+    format!(
+        "line {line_no}, column {column}: {message}: {}{head}{tail}{}",
+        if before.len() > SIDE { "…" } else { "" },
+        if after.len() > SIDE { "…" } else { "" },
+    )
+}
+
+/// `text` with every quoted part ("…" or '…') longer than 40 characters cut
+/// ([`rsts_io::cut`]).
+fn cut_quoted(text: &str) -> String {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(k) = rest.find(['"', '\'']) {
+        let q = rest[k..].chars().next().unwrap_or('"');
+        out.push_str(&rest[..=k]);
+        rest = &rest[k + 1..];
+        let Some(end) = rest.find(q) else {
+            out.push_str(&rsts_io::cut(rest));
+            return out;
+        };
+        out.push_str(&rsts_io::cut(&rest[..end]));
+        out.push(q);
+        rest = &rest[end + 1..];
+    }
+    out.push_str(rest);
+    out
 }

@@ -87,3 +87,24 @@ fn bad_input_is_a_clear_error() {
     assert!(err(&format!("{base}{}", base)).contains("used twice"));
     assert!(err(&format!("{base}[case.thresholds]\nmax_drift = 0.0\n")).contains("max_drift"));
 }
+
+/// A TOML error names line and column and shows 40 characters either side of the place, the
+/// quoted value cut: a 200 kB line is not printed (it used to be, twice).
+#[test]
+fn toml_errors_do_not_repeat_long_lines() {
+    let long = "x".repeat(200_000);
+    let text = format!("name = \"t\"\n[defaults]\nt_end = \"{long}\"\n");
+    let e = Suite::parse(&text, "x").unwrap_err().detail();
+    assert!(
+        e.len() < 400,
+        "{} characters: {}",
+        e.len(),
+        &e[..400.min(e.len())]
+    );
+    assert!(e.starts_with("line 3, column 9: "), "{e}");
+    assert!(e.contains("(200000 characters)"), "{e}");
+    let e = Suite::parse(&format!("name = \"t\"\nbad {long}\n"), "x")
+        .unwrap_err()
+        .detail();
+    assert!(e.len() < 400 && e.starts_with("line 2, column "), "{e}");
+}

@@ -21,7 +21,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    args.output.check(&args.shards)?;
+    args.output.check("FILE", &args.shards)?;
     let request = BenchMergeRequest {
         shards: args.shards.clone(),
     };
