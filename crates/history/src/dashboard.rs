@@ -54,6 +54,15 @@ pub struct Built {
     pub pages: usize,
 }
 
+/// A figure as text: counts as integers, others in the shortest form that reads back exactly.
+fn num(v: f64) -> String {
+    if v.is_finite() && v.fract() == 0.0 && v.abs() < 1e15 {
+        format!("{}", v as i64)
+    } else {
+        format!("{v:e}")
+    }
+}
+
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
@@ -260,7 +269,7 @@ fn overview(
                 .unwrap_or_default();
             let _ = writeln!(
                 b,
-                "<tr class=\"regression\"><td><a href=\"{page}\">{}</a> ({})</td><td>{}</td><td>{}</td><td>{} <code>{}</code></td><td>{} <code>{}</code></td><td>{:.6e}</td><td>{:.6e}</td><td>{}</td></tr>",
+                "<tr class=\"regression\"><td><a href=\"{page}\">{}</a> ({})</td><td>{}</td><td>{}</td><td>{} <code>{}</code></td><td>{} <code>{}</code></td><td>{}</td><td>{}</td><td>{}</td></tr>",
                 esc(&r.run_id),
                 esc(&r.tolerance),
                 r.metric,
@@ -269,8 +278,8 @@ fn overview(
                 esc(&r.last_good_commit),
                 esc(&r.first_bad_night),
                 esc(&r.first_bad_commit),
-                r.before,
-                r.after,
+                num(r.before),
+                num(r.after),
                 esc(&r.environment_text)
             );
         }
@@ -450,8 +459,8 @@ fn trend(
             if let Some(r) = &verdicts[k].regression {
                 let _ = writeln!(
                     b,
-                    "<p class=\"regression\"><b>Regression of {}</b> ({}): first bad night {} (<code>{}</code>), last good {} (<code>{}</code>): {:.6e} → {:.6e}{}.</p>",
-                    r.metric, r.kind, esc(&r.first_bad_night), esc(&r.first_bad_commit), esc(&r.last_good_night), esc(&r.last_good_commit), r.before, r.after,
+                    "<p class=\"regression\"><b>Regression of {}</b> ({}): first bad night {} (<code>{}</code>), last good {} (<code>{}</code>): {} → {}{}.</p>",
+                    r.metric, r.kind, esc(&r.first_bad_night), esc(&r.first_bad_commit), esc(&r.last_good_night), esc(&r.last_good_commit), num(r.before), num(r.after),
                     r.ulps.map(|u| format!(", {u} ulps")).or(r.z.map(|z| format!(", {z:.1} standard errors"))).unwrap_or_default()
                 );
             }
@@ -612,7 +621,7 @@ fn trend(
                 let cell = data.series[*k].iter().find(|p| p.night == n).map(|p| {
                     let v: Vec<f64> = p.runs.iter().map(|r| r.1).collect();
                     let (med, _, _) = summary(&v);
-                    format!("{med:.6e}")
+                    num(med)
                 });
                 let _ = write!(b, "<td>{}</td>", cell.unwrap_or_default());
             }
