@@ -63,6 +63,15 @@ fn num(v: f64) -> String {
     }
 }
 
+/// A regression's before or after: exact for accuracy, four digits for a timing level.
+fn figure(r: &detect::Regression, v: f64) -> String {
+    if r.kind == "timing" {
+        format!("{v:.4e} s")
+    } else {
+        num(v)
+    }
+}
+
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
@@ -278,8 +287,8 @@ fn overview(
                 esc(&r.last_good_commit),
                 esc(&r.first_bad_night),
                 esc(&r.first_bad_commit),
-                num(r.before),
-                num(r.after),
+                figure(r, r.before),
+                figure(r, r.after),
                 esc(&r.environment_text)
             );
         }
@@ -460,7 +469,7 @@ fn trend(
                 let _ = writeln!(
                     b,
                     "<p class=\"regression\"><b>Regression of {}</b> ({}): first bad night {} (<code>{}</code>), last good {} (<code>{}</code>): {} → {}{}.</p>",
-                    r.metric, r.kind, esc(&r.first_bad_night), esc(&r.first_bad_commit), esc(&r.last_good_night), esc(&r.last_good_commit), num(r.before), num(r.after),
+                    r.metric, r.kind, esc(&r.first_bad_night), esc(&r.first_bad_commit), esc(&r.last_good_night), esc(&r.last_good_commit), figure(r, r.before), figure(r, r.after),
                     r.ulps.map(|u| format!(", {u} ulps")).or(r.z.map(|z| format!(", {z:.1} standard errors"))).unwrap_or_default()
                 );
             }

@@ -5,7 +5,8 @@
 //!   between two nights is a change, dated to the night (and commit) where it appeared. A series
 //!   is regressed when its latest changes made it worse (larger errors or cost, fewer digits, a
 //!   lower order) or changed it both ways; from the first of those changes on it is "bad".
-//! - Timings are noisy: the ln of each night's median time is fitted by steps ([`crate::steps`]);
+//! - Timings are noisy: the ln of each night's least time over the series' runs (its tori; a
+//!   busy machine only adds time) is fitted by steps ([`crate::steps`]);
 //!   the series is regressed when its latest level, held for at least [`MIN_NIGHTS`] nights, is
 //!   above an earlier level by more than [`Z`] standard errors of the fit's noise (and by more
 //!   than 5 %, asv's default threshold). No fixed factor: the noise decides.
@@ -226,13 +227,14 @@ pub fn judge(data: &Data, key: &SeriesKey, points: &[Point]) -> SeriesVerdict {
             regression,
         };
     }
-    // Timing: the last WINDOW nights with a positive, finite median.
+    // Timing: the last WINDOW nights with a positive, finite time.
     let start = points.len().saturating_sub(steps::WINDOW);
     let usable: Vec<(usize, f64)> = (start..points.len())
         .filter_map(|k| {
             let values: Vec<f64> = points[k].runs.iter().map(|r| r.1).collect();
-            let (median, _, _) = summary(&values);
-            (median.is_finite() && median > 0.0).then(|| (k, median.ln()))
+            // The least time of the night's runs: a busy machine only ever adds time.
+            let (_, least, _) = summary(&values);
+            (least.is_finite() && least > 0.0).then(|| (k, least.ln()))
         })
         .collect();
     let y: Vec<f64> = usable.iter().map(|u| u.1).collect();
@@ -266,6 +268,11 @@ pub fn judge(data: &Data, key: &SeriesKey, points: &[Point]) -> SeriesVerdict {
         let n_last = (last.to - last.from) as f64;
         if last.to - last.from >= MIN_NIGHTS {
             for (j, p) in fitted.iter().enumerate().rev().skip(1) {
+                // A level of one night is an outlier (a busy machine), neither a good level nor
+                // one that ends the search (asv accepts short intervals only conditionally).
+                if p.to - p.from < MIN_NIGHTS {
+                    continue;
+                }
                 let se = noise * (1.0 / (p.to - p.from) as f64 + 1.0 / n_last).sqrt();
                 let z = (last.level - p.level) / se;
                 if z > Z && last.level - p.level > MIN_STEP.ln_1p() {

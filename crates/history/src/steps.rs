@@ -15,6 +15,10 @@
 pub const WINDOW: usize = 100;
 /// Most pieces a fit may have.
 pub const MAX_PIECES: usize = 8;
+/// Fewest nights in a piece (asv's `min_size`): a one-night outlier — a run slowed twenty-fold
+/// by a busy machine — is absorbed by the median of its neighbours instead of making a level,
+/// and the fit cannot chase the noise with many tiny pieces.
+pub const MIN_PIECE: usize = 2;
 /// B of the penalty β = B ln n / n. asv's default is 4; with 3 a 2× step at night 6 of ten nights
 /// of ±30 % noise is found there 85 % of the time instead of 66 % (asv: 0.3 % false alarms), at 1.3 % false alarms
 /// per noise-only series (0.4 % over twenty nights): docs/validation.md has the measurement.
@@ -29,7 +33,13 @@ pub struct Piece {
     pub level: f64,
 }
 
-/// Medians and L1 distances of every stretch `l..=r` of `y`.
+/// Largest distance of one night from its level that counts in the fit (ln 3: a night three times
+/// slower or faster than its level counts as three times): a run descheduled on a busy machine
+/// can take twenty times as long, and would otherwise weigh more than a true step of all the
+/// other nights (a truncated L1 distance; the levels are medians all the same).
+pub const CAP: f64 = 1.098_612_288_668_11; // ln 3
+
+/// Medians and (truncated, [`CAP`]) L1 distances of every stretch `l..=r` of `y`.
 struct Stretches {
     n: usize,
     median: Vec<f64>,
@@ -53,7 +63,7 @@ impl Stretches {
                     0.5 * (sorted[m / 2 - 1] + sorted[m / 2])
                 };
                 median[l * n + r] = med;
-                dist[l * n + r] = sorted.iter().map(|v| (v - med).abs()).sum();
+                dist[l * n + r] = sorted.iter().map(|v| (v - med).abs().min(CAP)).sum();
             }
         }
         Stretches { n, median, dist }
@@ -73,7 +83,7 @@ pub fn fit(y: &[f64]) -> Vec<Piece> {
         return Vec::new();
     }
     let st = Stretches::new(y);
-    let kmax = MAX_PIECES.min(n);
+    let kmax = MAX_PIECES.min(n / MIN_PIECE).max(1);
     // cost[k][r]: least L1 distance of y[..r] from k pieces; from[k][r]: where the last starts.
     let mut cost = vec![vec![f64::INFINITY; n + 1]; kmax + 1];
     let mut from = vec![vec![0usize; n + 1]; kmax + 1];
@@ -81,6 +91,10 @@ pub fn fit(y: &[f64]) -> Vec<Piece> {
     for k in 1..=kmax {
         for r in k..=n {
             for l in (k - 1)..r {
+                // Pieces of MIN_PIECE nights or more (a single piece may be shorter).
+                if r - l < MIN_PIECE && !(k == 1 && r == n) {
+                    continue;
+                }
                 let c = cost[k - 1][l] + st.dist(l, r - 1);
                 if c < cost[k][r] {
                     cost[k][r] = c;
@@ -92,6 +106,9 @@ pub fn fit(y: &[f64]) -> Vec<Piece> {
     let beta = PENALTY * (n as f64).ln() / n as f64;
     let mut best: Option<(f64, Vec<Piece>)> = None;
     for k in 1..=kmax {
+        if !cost[k][n].is_finite() {
+            continue;
+        }
         let mut pieces = Vec::with_capacity(k);
         let mut r = n;
         for kk in (1..=k).rev() {
@@ -120,17 +137,23 @@ pub fn fit(y: &[f64]) -> Vec<Piece> {
     best.map(|(_, p)| p).unwrap_or_default()
 }
 
-/// The noise scale of a fit: the mean absolute distance of the data from it (at least 1e-3, a
-/// tenth of a percent in ln time: the timer's resolution for a millisecond run).
+/// The noise scale of a fit: the median absolute distance of the data from it, × 1.4826 (the
+/// standard deviation for Gaussian noise; robust: a night slowed twenty-fold by a busy machine
+/// does not inflate it), at least 1e-3 (a tenth of a percent in ln time).
 pub fn noise(y: &[f64], pieces: &[Piece]) -> f64 {
-    let s: f64 = pieces
+    let mut dev: Vec<f64> = pieces
         .iter()
-        .map(|p| {
-            y[p.from..p.to]
-                .iter()
-                .map(|v| (v - p.level).abs())
-                .sum::<f64>()
-        })
-        .sum();
-    (s / y.len().max(1) as f64).max(1e-3)
+        .flat_map(|p| y[p.from..p.to].iter().map(move |v| (v - p.level).abs()))
+        .collect();
+    if dev.is_empty() {
+        return 1e-3;
+    }
+    dev.sort_by(f64::total_cmp);
+    let m = dev.len();
+    let mad = if m % 2 == 1 {
+        dev[m / 2]
+    } else {
+        0.5 * (dev[m / 2 - 1] + dev[m / 2])
+    };
+    (1.4826 * mad).max(1e-3)
 }
