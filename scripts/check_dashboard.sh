@@ -3,7 +3,9 @@
 # file system in headless Chromium and fails on a page error, a console error, a request for
 # anything but a local file, or a missing element; writes a full-page screenshot of each page.
 #
-#   scripts/check_dashboard.sh --out DIR --page NAME FILE.html [--expect CSS-SELECTOR]... ...
+#   scripts/check_dashboard.sh --out DIR [--first-screen] --page NAME FILE.html [--expect CSS-SELECTOR]... ...
+#
+# --first-screen: screenshots of the first 1400×1000 pixels of each page, not the whole page.
 #
 # Installs what it needs, once, as scripts/check_viewer.sh does: Debian's chromium (apt-get, as
 # root or through sudo; RSTS_CHROMIUM names another) and playwright-core (npm, scripts/node_deps.sh
@@ -15,7 +17,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 say() { echo "check_dashboard: $*" >&2; }
 die() { say "$*"; exit 2; }
-case "${1:-}" in -h|--help) sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
+case "${1:-}" in -h|--help) sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
 
 as_root() {
   if [ "$(id -u)" -eq 0 ]; then "$@"; elif command -v sudo >/dev/null 2>&1; then sudo "$@"; else

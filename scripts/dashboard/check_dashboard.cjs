@@ -5,8 +5,10 @@
 // is not a local file (the site must work offline: no CDN, no server), or lacks an element it
 // must show. Takes a full-page screenshot of each page.
 //
-//   node check_dashboard.cjs --out DIR [--chromium /usr/bin/chromium]
+//   node check_dashboard.cjs --out DIR [--chromium /usr/bin/chromium] [--first-screen]
 //        --page NAME FILE.html [--expect CSS-SELECTOR]... ...
+//
+// --first-screen: screenshots of the first 1400×1000 of each page instead of the whole page.
 //
 // Prints one JSON document (per page: ok, problems, screenshot, counts of each expected selector)
 // and exits 0 when every page is fine, 1 otherwise, 2 on bad usage or when the browser cannot run.
@@ -21,17 +23,19 @@ const VIEWPORT = { width: 1400, height: 1000 };
 const WAIT = 60000;
 
 function usage(msg) {
-  console.error(`check_dashboard: ${msg}\nusage: node check_dashboard.cjs --out DIR [--chromium PATH] --page NAME FILE [--expect SELECTOR]... ...`);
+  console.error(`check_dashboard: ${msg}\nusage: node check_dashboard.cjs --out DIR [--chromium PATH] [--first-screen] --page NAME FILE [--expect SELECTOR]... ...`);
   process.exit(2);
 }
 
 function parseArgs(argv) {
-  const opts = { chromium: "/usr/bin/chromium", pages: [] };
+  const opts = { chromium: "/usr/bin/chromium", pages: [], fullPage: true };
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i];
     if (a === "--out" || a === "--chromium") {
       if (i + 1 >= argv.length) usage(`${a} wants a value`);
       opts[a.slice(2)] = argv[++i];
+    } else if (a === "--first-screen") {
+      opts.fullPage = false;
     } else if (a === "--page") {
       if (i + 2 >= argv.length) usage("--page wants NAME FILE");
       const [name, file] = argv.slice(i + 1, i + 3);
@@ -49,7 +53,7 @@ function parseArgs(argv) {
   return opts;
 }
 
-async function check(browser, p, outDir) {
+async function check(browser, p, outDir, fullPage) {
   const problems = [];
   const console_ = [];
   const context = await browser.newContext({ viewport: VIEWPORT });
@@ -83,7 +87,7 @@ async function check(browser, p, outDir) {
     result.empty_plots = await page.locator("figure.plot").evaluateAll((figs) => figs.filter((f) => !f.querySelector("polyline, circle")).length);
     if (result.empty_plots > 0) problems.push(`${result.empty_plots} plot(s) without a line or marker`);
     result.screenshot = path.join(outDir, `${p.name}.png`);
-    await page.screenshot({ path: result.screenshot, fullPage: true, timeout: WAIT });
+    await page.screenshot({ path: result.screenshot, fullPage, timeout: WAIT });
   } catch (e) {
     problems.push(`could not open the page: ${String(e.message || e).split("\n")[0]}`);
   }
@@ -107,7 +111,7 @@ async function main() {
   const results = [];
   try {
     for (const p of opts.pages) {
-      const r = await check(browser, p, path.resolve(opts.out));
+      const r = await check(browser, p, path.resolve(opts.out), opts.fullPage);
       console.error(`check_dashboard: ${p.name}: ${r.ok ? "ok" : r.problems.length + " problem(s)"}`);
       for (const x of r.problems) console.error(`    ${x}`);
       results.push(r);

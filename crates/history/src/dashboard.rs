@@ -443,7 +443,7 @@ fn trend(
         cell.state.class(),
         esc(suite)
     );
-    // Group the cell's series by (tolerance, environment).
+    // Group the cell's series by (tolerance, environment), regressed groups first.
     let mut groups: BTreeMap<(String, i64), Vec<&SeriesKey>> = BTreeMap::new();
     for k in &cell.keys {
         groups
@@ -451,6 +451,9 @@ fn trend(
             .or_default()
             .push(k);
     }
+    // Regressed tolerances first.
+    let mut groups: Vec<((String, i64), Vec<&SeriesKey>)> = groups.into_iter().collect();
+    groups.sort_by_key(|(_, keys)| !keys.iter().any(|k| verdicts[*k].regression.is_some()));
     for ((tol, env), keys) in groups {
         let env_t = data
             .environments
@@ -664,7 +667,8 @@ fn report_files(dir: &Path) -> Vec<PathBuf> {
             }
         }
     }
-    out.sort();
+    // The report itself first, then its subdirectories' files.
+    out.sort_by_key(|p| (p.components().count(), p.clone()));
     out
 }
 
