@@ -457,7 +457,7 @@ fn a_history_finds_a_planted_slowdown_and_a_changed_bit_and_its_dashboard_render
     let again = rsts(&["history", "import", s(&nights[0]), "--history", s(&db)]);
     assert_eq!(again.status.code(), Some(2));
     assert!(
-        stderr(&again).contains("already holds the night"),
+        stderr(&again).contains("already holds this report"),
         "{}",
         stderr(&again)
     );

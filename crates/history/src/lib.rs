@@ -99,26 +99,20 @@ pub fn import(
     }
     let mut history = History::open_for_writing(path)?;
     let mut nights = Vec::new();
-    let mut seen = std::collections::BTreeSet::new();
+    let mut seen: Vec<&Report> = Vec::new();
     for (name, report, dir) in &loaded {
         let n = Night::of(report, night, Some(dir.clone()), name)?;
-        let key = (
-            n.night.clone(),
-            report.suite_digest.clone(),
-            report.shard.map(|s| s.to_string()),
-        );
-        if !seen.insert(key) {
+        if seen.contains(&report) {
             return Err(HistoryError::Usage(format!(
-                "{name}: the same night ({}) of the same suite and shard is given twice",
-                n.night
+                "{name}: the same report is given twice"
             )));
         }
+        seen.push(report);
         if history.has(&n)? {
             return Err(HistoryError::Usage(format!(
-                "{name}: {} already holds the night {} of suite {}; nothing was written",
+                "{name}: {} already holds this report (night {}); nothing was written",
                 path.display(),
-                n.night,
-                report.suite
+                n.night
             )));
         }
         nights.push((name.clone(), n));

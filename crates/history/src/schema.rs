@@ -46,8 +46,9 @@ pub const MIGRATIONS: &[Migration] = &[
         wall_seconds REAL NOT NULL,
         report_dir TEXT,
         recorded TEXT NOT NULL,
-        UNIQUE (night, suite_digest, shard)
+        report_hash TEXT NOT NULL UNIQUE
     );
+    CREATE INDEX nights_night ON nights (night);
     CREATE TABLE night_machines (
         night_id INTEGER NOT NULL REFERENCES nights(id) ON DELETE CASCADE,
         shard TEXT NOT NULL,

@@ -185,30 +185,30 @@ impl History {
         Ok(())
     }
 
-    /// Whether the night of this report is already recorded (same night, suite and shard).
+    /// Whether this report is already recorded (the same report.json, whatever its night).
     pub fn has(&self, night: &Night) -> Result<bool, HistoryError> {
         let n: i64 = self.conn.query_row(
-            "SELECT count(*) FROM nights WHERE night = ?1 AND suite_digest = ?2 AND shard = ?3",
-            params![
-                night.night,
-                night.report.suite_digest,
-                shard_of(night.report)
-            ],
+            "SELECT count(*) FROM nights WHERE report_hash = ?1",
+            params![report_hash(night.report)],
             |r| r.get(0),
         )?;
         Ok(n > 0)
     }
 
-    /// Record a night, all of it in one transaction; returns its id. A night already recorded
-    /// (same time, suite and shard) is an error and changes nothing.
+    /// Record a night, all of it in one transaction; returns its id. A report already recorded
+    /// is an error and changes nothing.
     pub fn record(&mut self, night: &Night) -> Result<i64, HistoryError> {
         let p = display(&self.path);
         if self.has(night)? {
             return Err(HistoryError::Usage(format!(
-                "{p} already holds the night {} of suite {} (shard {})",
-                night.night,
+                "{p} already holds this report of suite {} (shard {}, made {})",
                 night.report.suite,
-                shard_of(night.report)
+                shard_of(night.report),
+                night
+                    .report
+                    .created
+                    .as_deref()
+                    .unwrap_or("at an unknown time")
             )));
         }
         let pause = std::env::var(PAUSE_VARIABLE)
@@ -221,8 +221,9 @@ impl History {
         let r = night.report;
         tx.execute(
             "INSERT INTO nights (night, created, commit_id, rsts_version, suite, suite_digest,
-                total_runs, shard, runs, passed, failed, errors, wall_seconds, report_dir, recorded)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15)",
+                total_runs, shard, runs, passed, failed, errors, wall_seconds, report_dir, recorded,
+                report_hash)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16)",
             params![
                 night.night,
                 r.created,
@@ -239,6 +240,7 @@ impl History {
                 r.timing.wall_seconds,
                 night.report_dir.as_ref().map(|d| display(d)),
                 rsts_io::utc::now_utc(),
+                report_hash(r),
             ],
         )?;
         let night_id = tx.last_insert_rowid();
@@ -329,6 +331,18 @@ impl History {
         tx.commit().map_err(|e| locked_or(e, &p))?;
         Ok(night_id)
     }
+}
+
+/// FNV-1a (64 bits) of the report's JSON: tells a report already recorded (two runs of a suite
+/// differ at least in their times; not a defence against a forged file).
+fn report_hash(r: &Report) -> String {
+    let json = serde_json::to_string(r).expect("report serialises");
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in json.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
 }
 
 /// `k/n` of a shard, `1/1` for a whole (or merged) suite.

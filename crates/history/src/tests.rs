@@ -503,7 +503,7 @@ fn a_night_that_fails_to_insert_leaves_the_database_as_it_was() {
         .is_err());
     drop(h);
     assert_eq!(counts(&db), before);
-    // The same night twice is refused before anything is written.
+    // The same report twice is refused before anything is written.
     let mut h = History::open_for_writing(&db).unwrap();
     let again = report(1, vec![run("c", "dop853", 0, 1e-9, 0.01)], "avx2");
     assert!(h
