@@ -105,8 +105,9 @@ pub fn fit(y: &[f64]) -> Vec<Piece> {
     }
     let beta = PENALTY * (n as f64).ln() / n as f64;
     let mut best: Option<(f64, Vec<Piece>)> = None;
-    for k in 1..=kmax {
-        if !cost[k][n].is_finite() {
+    for (k, row) in cost.iter().enumerate().skip(1) {
+        let total = row[n];
+        if !total.is_finite() {
             continue;
         }
         let mut pieces = Vec::with_capacity(k);
@@ -129,7 +130,7 @@ pub fn fit(y: &[f64]) -> Vec<Piece> {
         } else {
             1e-3
         };
-        let objective = beta * k as f64 + (floor.max(1e-300) + cost[k][n] / n as f64).ln();
+        let objective = beta * k as f64 + (floor.max(1e-300) + total / n as f64).ln();
         if best.as_ref().is_none_or(|(b, _)| objective < *b - 1e-12) {
             best = Some((objective, pieces));
         }
