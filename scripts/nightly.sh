@@ -7,6 +7,9 @@
 # baseline stays (a regression keeps being reported until it is fixed, not accepted by rerunning).
 # Extra arguments go to `rsts validate`, e.g. scripts/nightly.sh --jobs 2; RSTS_NIGHTLY_SUITE picks
 # another suite file.
+# Every night is recorded in the validation history $out/history.sqlite (rsts validate --history),
+# and the dashboard $out/dashboard/index.html (rsts dashboard) is rebuilt from it; `rsts history
+# regressions $out/history.sqlite` lists what regressed (docs/validation.md, History and dashboard).
 # Then the real-viewer check (scripts/check_viewer.sh, screenshots in <run>/viewer/): every kind
 # of MCAP file with the shipped layouts in Foxglove Studio; RSTS_NIGHTLY_VIEWER=0 leaves it out.
 # Exit code: that of `rsts validate` (0 pass, 1 a run failed or regressed, 2 bad input); when it
@@ -24,7 +27,7 @@ mkdir -p "$out"
 cargo build --release -q -p rsts-cli
 
 suite="${RSTS_NIGHTLY_SUITE:-validation/nightly.toml}"
-args=(validate --suite "$suite" --report "$run")
+args=(validate --suite "$suite" --report "$run" --history "$out/history.sqlite")
 if [ -f "$out/baseline/report.json" ]; then
   args+=(--baseline "$out/baseline/report.json")
 else
@@ -44,6 +47,14 @@ if [ "$code" -eq 0 ]; then
   echo "baseline for the next run: $out/baseline (from $run)"
 elif [ "$code" -eq 1 ]; then
   echo "runs failed or regressed: see $run/report.md; the baseline stays $out/baseline" >&2
+fi
+
+if [ -f "$out/history.sqlite" ]; then
+  set +e
+  target/release/rsts dashboard --history "$out/history.sqlite" --out "$out/dashboard"
+  dashboard=$?
+  set -e
+  if [ "$dashboard" -ne 0 ] && [ "$code" -eq 0 ]; then code=$dashboard; fi
 fi
 
 if [ "${RSTS_NIGHTLY_VIEWER:-1}" != 0 ]; then

@@ -33,13 +33,18 @@ missing=()
 have m4 || missing+=(m4)
 have make || missing+=(make)
 have cc || have gcc || missing+=(gcc)
+# SQLite for the validation history (crate rsts-history links the system library: docs/validation.md
+# says why not the bundled one). Checked by compiling its header.
+if have cc && ! printf '#include <sqlite3.h>\n' | cc -E -x c - >/dev/null 2>&1; then
+  missing+=(libsqlite3-dev)
+fi
 
 if [ "${#missing[@]}" -gt 0 ]; then
   if ! have apt-get; then
     echo "setup: missing ${missing[*]}; install them with your package manager" >&2
     exit 1
   fi
-  echo "setup: installing ${missing[*]} with apt-get (to build GMP and MPFR from source)" >&2
+  echo "setup: installing ${missing[*]} with apt-get (to build GMP and MPFR from source, and link SQLite)" >&2
   start=$SECONDS
   as_root env DEBIAN_FRONTEND=noninteractive apt-get update -qq >/dev/null
   as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null

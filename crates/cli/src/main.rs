@@ -19,8 +19,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use commands::{
-    bench, check, compare, convergence, diagram, events, explicit, identify, inspect, integrate,
-    reference, surfaces, table1, table2, validate,
+    bench, check, compare, convergence, dashboard, diagram, events, explicit, history, identify,
+    inspect, integrate, reference, surfaces, table1, table2, validate,
 };
 
 /// Exit code for bad input and any other error (the same code clap uses for usage errors).
@@ -88,6 +88,12 @@ enum Command {
     /// Run a validation suite (every camera, the hard cases) in parallel: report, plots, baseline, shards.
     #[command(after_help = validate::EXAMPLES)]
     Validate(validate::Args),
+    /// A validation history: load reports into it, list the series that regressed.
+    #[command(after_help = history::EXAMPLES)]
+    History(history::Args),
+    /// Write the static dashboard of a validation history: overview, trends, nights.
+    #[command(after_help = dashboard::EXAMPLES)]
+    Dashboard(dashboard::Args),
     /// Bearing surfaces of one integral manifold: PLY meshes, shaded PNG pictures, MCAP scene.
     #[command(after_help = surfaces::EXAMPLES)]
     Surfaces(surfaces::Args),
@@ -114,6 +120,8 @@ impl Command {
             Command::Bench(args) => bench::run(args, out),
             Command::Convergence(args) => convergence::run(args, out),
             Command::Validate(args) => validate::run(args, out),
+            Command::History(args) => history::run(args, out),
+            Command::Dashboard(args) => dashboard::run(args, out),
             Command::Surfaces(args) => surfaces::run(args, out),
             Command::Table1(args) => table1::run(args, out),
             Command::Table2(args) => table2::run(args, out),
@@ -177,6 +185,7 @@ fn main() -> ExitCode {
                 ExitCode::from(interrupt::exit_code())
             } else if e.downcast_ref::<validate::Failed>().is_some()
                 || e.downcast_ref::<identify::NotOnN>().is_some()
+                || e.downcast_ref::<history::Regressed>().is_some()
             {
                 ExitCode::from(EXIT_FAILED)
             } else {

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 mod common;
-use common::{rsts, s, stderr, tmp};
+use common::{fails, ok, rsts, s, stderr, stdout, tmp};
 
 fn write(name: &str, text: &str) -> PathBuf {
     let p = tmp(name);
@@ -19,7 +19,8 @@ fn read_report(dir: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()
 }
 
-/// The report without its timing objects (the documented identity of reports).
+/// The report without its timing objects, its time and a merge's parts (the documented identity
+/// of reports).
 fn without_timing(mut v: Value) -> Value {
     fn strip(v: &mut Value) {
         match v {
@@ -32,6 +33,9 @@ fn without_timing(mut v: Value) -> Value {
         }
     }
     strip(&mut v);
+    let top = v.as_object_mut().unwrap();
+    top.remove("created");
+    top.remove("parts");
     v
 }
 
@@ -252,11 +256,19 @@ fn three_shards_merged_equal_the_unsharded_report() {
         dirs.push(d);
     }
     let merged = tmp("merged");
+    let history = tmp("merged.sqlite");
     let mut args = vec!["validate", "merge"];
     args.extend(dirs.iter().map(|d| s(d)));
-    args.extend(["--report", s(&merged)]);
+    args.extend(["--report", s(&merged), "--history", s(&history)]);
     let out = rsts(&args);
     assert!(out.status.success(), "{}", stderr(&out));
+    // The merge is one night of the whole suite in the history.
+    let doc: Value = serde_json::from_slice(
+        &rsts(&["history", "regressions", s(&history), "--format", "json"]).stdout,
+    )
+    .unwrap();
+    assert_eq!(doc["nights"], 1, "{doc:#}");
+    assert_eq!(read_report(&merged)["parts"].as_array().unwrap().len(), 3);
     let full_r = read_report(&full);
     let total = full_r["runs"].as_array().unwrap().len();
     assert_eq!(sizes.iter().sum::<usize>(), total);
@@ -348,4 +360,379 @@ fn bad_input_exits_2_with_a_message() {
             stderr(&out)
         );
     }
+}
+
+/// SplitMix64 for the synthetic nights' timing noise (fixed seed).
+struct Rng(u64);
+impl Rng {
+    /// Uniform in [1 − a, 1 + a].
+    fn noise(&mut self, a: f64) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        let u = ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64;
+        1.0 + a * (2.0 * u - 1.0)
+    }
+}
+
+/// Night k (1-based) of the synthetic histories: one a day from 2026-03-01 02:00 UTC.
+fn night_time(k: usize) -> String {
+    format!("2026-03-{k:02}T02:00:00Z")
+}
+
+/// Twelve nights made from one real report of the small suite: every time scaled by ±30 %
+/// noise, dopri5 twice as slow from night 6 on, and I+'s dop853 error one ulp larger from night
+/// 8 on. Returns the report directories.
+fn synthetic_nights(base: &Value, root: &Path) -> Vec<PathBuf> {
+    let mut rng = Rng(34);
+    (1..=12)
+        .map(|k| {
+            let mut r = base.clone();
+            r["created"] = Value::from(night_time(k));
+            r["commit"] = Value::from(format!("commit{k:02}"));
+            for run in r["runs"].as_array_mut().unwrap() {
+                let slow = if run["method"] == "dopri5" && k >= 6 {
+                    2.0
+                } else {
+                    1.0
+                };
+                let noise = rng.noise(0.3);
+                for key in ["integration_seconds", "wall_seconds"] {
+                    let t = run["timing"][key].as_f64().unwrap();
+                    run["timing"][key] = Value::from(t * slow * noise);
+                }
+                if run["id"] == "I+/t0/dop853@1e-12" && k >= 8 {
+                    let e = run["figures"]["max_state_error"].as_f64().unwrap();
+                    run["figures"]["max_state_error"] =
+                        Value::from(f64::from_bits(e.to_bits() + 1));
+                }
+            }
+            let d = root.join(format!("night-{k:02}"));
+            std::fs::create_dir_all(&d).unwrap();
+            std::fs::write(
+                d.join("report.json"),
+                serde_json::to_string_pretty(&r).unwrap(),
+            )
+            .unwrap();
+            std::fs::write(d.join("report.md"), format!("# night {k}\n")).unwrap();
+            d
+        })
+        .collect()
+}
+
+/// A history of synthetic nights (one real report of the small suite, with ±30 % timing noise,
+/// a planted 2× slowdown of dopri5 from night 6 and a one-ulp larger error of one run from night
+/// 8): `rsts history regressions` finds exactly those two, dated; the dashboard shows them on
+/// the overview and the trend page, and its pages open in headless Chromium without a console
+/// error (screenshots in target/tmp/dashboard-check).
+#[test]
+fn a_history_finds_a_planted_slowdown_and_a_changed_bit_and_its_dashboard_renders_in_chromium() {
+    let suite = write("history-small.toml", SMALL);
+    let real = tmp("history-real");
+    let out = rsts(&[
+        "validate",
+        "--suite",
+        s(&suite),
+        "--report",
+        s(&real),
+        "--jobs",
+        "2",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let base = read_report(&real);
+    for key in ["created", "commit", "rsts_version", "environment"] {
+        assert!(!base[key].is_null(), "report.json lacks {key}");
+    }
+    let root = tmp("history-nights");
+    let _ = std::fs::remove_dir_all(&root);
+    let nights = synthetic_nights(&base, &root);
+    let db = root.join("history.sqlite");
+    let mut args = vec!["history", "import"];
+    args.extend(nights.iter().map(|d| s(d)));
+    args.extend(["--history", s(&db)]);
+    let out = rsts(&args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // Imported twice: refused, nothing written.
+    let again = rsts(&["history", "import", s(&nights[0]), "--history", s(&db)]);
+    assert_eq!(again.status.code(), Some(2));
+    assert!(
+        stderr(&again).contains("already holds this report"),
+        "{}",
+        stderr(&again)
+    );
+    let out = rsts(&["history", "regressions", s(&db), "--format", "json"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["nights"], 12);
+    let regs = doc["regressions"].as_array().unwrap();
+    let found: Vec<(String, String, String, String)> = regs
+        .iter()
+        .map(|r| {
+            let f = |k: &str| r[k].as_str().unwrap().to_string();
+            (f("kind"), f("run_id"), f("metric"), f("first_bad_night"))
+        })
+        .collect();
+    let want = |kind: &str, id: &str, metric: &str, k: usize| {
+        (
+            kind.to_string(),
+            id.to_string(),
+            metric.to_string(),
+            night_time(k),
+        )
+    };
+    assert_eq!(
+        found,
+        vec![
+            want("accuracy", "I+/t0/dop853@1e-12", "max_state_error", 8),
+            want("timing", "I+/t0/dopri5@1e-12", "seconds", 6),
+        ],
+        "{doc:#}"
+    );
+    assert_eq!(regs[0]["ulps"], 1);
+    assert_eq!(regs[0]["last_good_commit"], "commit07");
+    assert_eq!(regs[1]["last_good_night"], night_time(5));
+    let ratio = regs[1]["after"].as_f64().unwrap() / regs[1]["before"].as_f64().unwrap();
+    assert!(ratio > 1.4 && ratio < 2.9, "{ratio}");
+    // The text form says the same, one line each.
+    let text = stdout(&rsts(&["history", "regressions", s(&db)]));
+    assert_eq!(text.matches("REGRESSION ").count(), 2, "{text}");
+
+    let site = root.join("site");
+    let out = rsts(&["dashboard", "--history", s(&db), "--out", s(&site)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let index = std::fs::read_to_string(site.join("index.html")).unwrap();
+    let cell = r#"<td class="cell regressed" data-case="I+" data-method="dopri5"><a href=""#;
+    let at = index
+        .find(cell)
+        .unwrap_or_else(|| panic!("no regressed dopri5 cell: {index}"));
+    let href = &index[at + cell.len()..];
+    let trend = site.join(&href[..href.find('"').unwrap()]);
+    let trend_html = std::fs::read_to_string(&trend).unwrap();
+    assert!(trend_html.contains(r#"data-label="regression""#));
+    // An unchanged cell is steady.
+    assert!(
+        index.contains(
+            r#"<td class="cell steady" data-case="near-outer-b" data-method="closed-form">"#
+        ),
+        "{index}"
+    );
+    let shots = Path::new(env!("CARGO_TARGET_TMPDIR")).join("dashboard-check");
+    let _ = std::fs::remove_dir_all(&shots);
+    let check = std::process::Command::new("bash")
+        .arg(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../scripts/check_dashboard.sh"
+        ))
+        .args(["--out", s(&shots)])
+        .args(["--page", "overview", s(&site.join("index.html"))])
+        .args([
+            "--expect",
+            r#"td.cell.regressed[data-case="I+"][data-method="dopri5"]"#,
+        ])
+        .args(["--expect", "tr.regression"])
+        .args(["--page", "trend", s(&trend)])
+        .args([
+            "--expect",
+            r#"figure.plot.time g.series[data-label="regression"] circle"#,
+        ])
+        .args(["--expect", "p.regression"])
+        .args(["--page", "night", s(&site.join("night/6.html"))])
+        .args(["--expect", r#"ul.files a[href$="report.md"]"#])
+        .output()
+        .expect("run bash");
+    match check.status.code() {
+        Some(2) => {
+            return rsts_io::report_skip(
+                "a_history_finds_a_planted_slowdown_and_a_changed_bit_and_its_dashboard_renders_in_chromium",
+                &format!("no headless Chromium: {}", stderr(&check).trim()),
+            )
+        }
+        code => assert_eq!(code, Some(0), "{}{}", stdout(&check), stderr(&check)),
+    }
+    let report: Value = serde_json::from_slice(&check.stdout).unwrap();
+    for page in report["results"].as_array().unwrap() {
+        assert_eq!(page["ok"], true, "{page:#}");
+        assert!(shots
+            .join(format!("{}.png", page["name"].as_str().unwrap()))
+            .exists());
+    }
+    assert!(
+        report["results"][1]["plots"].as_u64().unwrap() >= 3,
+        "{report:#}"
+    );
+}
+
+/// Missing, foreign, newer and locked histories: exit 2 with a message, the file unchanged and
+/// nothing else written (no report directory from a refused `validate --history`).
+#[test]
+fn bad_histories_exit_2_and_nothing_is_written() {
+    let suite = write("bad-history.toml", SMALL);
+    let d = tmp("bad-history");
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let missing = d.join("missing.sqlite");
+    let err = fails(&["history", "regressions", s(&missing)]);
+    assert!(err.contains("does not exist"), "{err}");
+    let err = fails(&[
+        "dashboard",
+        "--history",
+        s(&missing),
+        "--out",
+        s(&d.join("site")),
+    ]);
+    assert!(err.contains("does not exist"), "{err}");
+    assert!(!missing.exists() && !d.join("site").exists());
+    // Not a database: validate refuses before running anything.
+    let notes = d.join("notes.txt");
+    std::fs::write(&notes, "my notes, not a history\n".repeat(40)).unwrap();
+    let report = d.join("report");
+    let err = fails(&[
+        "validate",
+        "--suite",
+        s(&suite),
+        "--report",
+        s(&report),
+        "--history",
+        s(&notes),
+    ]);
+    assert!(err.contains("is not an rsts history"), "{err}");
+    assert!(!report.exists(), "a report was written");
+    assert_eq!(
+        std::fs::read_to_string(&notes).unwrap(),
+        "my notes, not a history\n".repeat(40)
+    );
+    // A history of a newer schema (user_version, bytes 60..64 of the header, raised).
+    let db = d.join("h.sqlite");
+    ok(&[
+        "validate",
+        "--suite",
+        s(&suite),
+        "--report",
+        s(&report),
+        "--history",
+        s(&db),
+    ]);
+    let mut bytes = std::fs::read(&db).unwrap();
+    let v = u32::from_be_bytes(bytes[60..64].try_into().unwrap());
+    bytes[60..64].copy_from_slice(&(v + 1).to_be_bytes());
+    let future = d.join("future.sqlite");
+    std::fs::write(&future, &bytes).unwrap();
+    for args in [
+        vec!["history", "regressions", s(&future)],
+        vec!["history", "import", s(&report), "--history", s(&future)],
+        vec![
+            "dashboard",
+            "--history",
+            s(&future),
+            "--out",
+            s(&d.join("site")),
+        ],
+    ] {
+        let err = fails(&args);
+        assert!(err.contains("a history of a newer rsts"), "{args:?}: {err}");
+    }
+    assert_eq!(std::fs::read(&future).unwrap(), bytes);
+    // Locked by another writer (Python's sqlite3 holds the write lock).
+    let Some(python) = ["python3", "python"].into_iter().find(|p| {
+        std::process::Command::new(p)
+            .args(["-c", "import sqlite3"])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    }) else {
+        return rsts_io::report_skip(
+            "bad_histories_exit_2_and_nothing_is_written",
+            "no python3 with sqlite3 to hold a lock (the rest passed)",
+        );
+    };
+    let mut holder = std::process::Command::new(python)
+        .args(["-c", "import sqlite3, sys, time\nc = sqlite3.connect(sys.argv[1], isolation_level=None)\nc.execute('BEGIN IMMEDIATE')\nprint('locked', flush=True)\ntime.sleep(60)", s(&db)])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(holder.stdout.take().unwrap()),
+        &mut line,
+    )
+    .unwrap();
+    assert_eq!(line.trim(), "locked");
+    let second = d.join("report-2");
+    let err = fails(&[
+        "validate",
+        "--suite",
+        s(&suite),
+        "--report",
+        s(&second),
+        "--history",
+        s(&db),
+    ]);
+    holder.kill().unwrap();
+    holder.wait().unwrap();
+    assert!(err.contains("is locked by another writer"), "{err}");
+    assert!(!second.exists());
+    let doc: Value = serde_json::from_slice(
+        &rsts(&["history", "regressions", s(&db), "--format", "json"]).stdout,
+    )
+    .unwrap();
+    assert_eq!(doc["nights"], 1);
+}
+
+/// `rsts validate --history` killed (SIGKILL) in the middle of its night's insert: the history
+/// opens and holds the nights before, and takes the next one.
+#[test]
+fn a_writer_killed_mid_insert_leaves_the_nights_before() {
+    use std::io::BufRead;
+    let suite = write("killed.toml", SMALL);
+    let d = tmp("killed");
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let db = d.join("h.sqlite");
+    for k in 1..=2 {
+        ok(&[
+            "validate",
+            "--suite",
+            s(&suite),
+            "--report",
+            s(&d.join(format!("r{k}"))),
+            "--history",
+            s(&db),
+        ]);
+    }
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_rsts"))
+        .args([
+            "validate",
+            "--suite",
+            s(&suite),
+            "--report",
+            s(&d.join("r3")),
+            "--history",
+            s(&db),
+        ])
+        .env("RSTS_HISTORY_PAUSE_MID_INSERT", "60")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
+    let mut paused = false;
+    for line in lines {
+        if line.unwrap().contains("history: paused mid-insert") {
+            paused = true;
+            break;
+        }
+    }
+    assert!(paused, "the writer never reached the middle of its insert");
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    let doc: Value = serde_json::from_slice(
+        &rsts(&["history", "regressions", s(&db), "--format", "json"]).stdout,
+    )
+    .unwrap();
+    assert_eq!(doc["nights"], 2, "{doc:#}");
+    ok(&["history", "import", s(&d.join("r3")), "--history", s(&db)]);
+    let doc: Value = serde_json::from_slice(
+        &rsts(&["history", "regressions", s(&db), "--format", "json"]).stdout,
+    )
+    .unwrap();
+    assert_eq!(doc["nights"], 3);
 }

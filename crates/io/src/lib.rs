@@ -30,6 +30,7 @@ pub use inputs::{
     check_outputs, cut, human_bytes, open_bounded, read_bounded, read_stream_bounded,
     read_text_bounded, Bounded, Input, Output,
 };
+pub mod utc;
 
 /// Temporaries currently open in this process (removed by [`remove_temporaries`]).
 static OPEN: Mutex<BTreeSet<PathBuf>> = Mutex::new(BTreeSet::new());

@@ -1,13 +1,15 @@
 //! report.json and report.md; regressions against a baseline; merging shard reports.
 //!
-//! Everything in report.json is a function of the suite and the machine, except the `timing`
-//! objects (per run and at the top) and the regressions of kind `time`: two runs of the same suite
+//! Everything in report.json is a function of the suite, the build and the machine, except the
+//! `timing` objects (per run and at the top), the regressions of kind `time`, the time the report
+//! was made (`created`) and, in a merged report, its shards' `parts`: two runs of the same suite
 //! (or a merge of its shards) give reports equal up to those — see [`Report::without_timings`].
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::Path;
 
+use rsts_harness::environment::Environment;
 use serde::{Deserialize, Serialize};
 
 use crate::run::{nan_max, RunResult, Status};
@@ -79,10 +81,34 @@ pub struct ReportTiming {
     pub wall_seconds: f64,
 }
 
+/// One shard of a merged report: when and where it ran.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Part {
+    pub shard: Shard,
+    pub created: Option<String>,
+    pub environment: Option<Environment>,
+}
+
 /// report.json.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Report {
     pub format: u32,
+    /// When the report was made (UTC, `2026-11-29T03:04:05Z`; a merged report: its earliest
+    /// shard's); absent in reports written before it was recorded.
+    #[serde(default)]
+    pub created: Option<String>,
+    /// The git commit and version of the rsts that ran the suite.
+    #[serde(default)]
+    pub commit: Option<String>,
+    #[serde(default)]
+    pub rsts_version: Option<String>,
+    /// Where the runs ran (CPU, SIMD path, cores, OS); a merged report whose shards ran in
+    /// different environments has none here and each shard's in `parts`.
+    #[serde(default)]
+    pub environment: Option<Environment>,
+    /// A merged report: its shards, each with its time and environment.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub parts: Vec<Part>,
     pub suite: String,
     /// Digest of the expanded suite: shards of one suite share it.
     pub suite_digest: String,
@@ -118,8 +144,14 @@ impl Report {
             }
             *summary.cameras.entry(r.camera.clone()).or_default() += 1;
         }
+        let env = Environment::detect();
         Report {
             format: FORMAT,
+            created: Some(rsts_io::utc::now_utc()),
+            commit: Some(env.commit.clone()),
+            rsts_version: Some(env.rsts_version.clone()),
+            environment: Some(env),
+            parts: Vec::new(),
             suite: suite.to_string(),
             suite_digest: digest.to_string(),
             total_runs,
@@ -165,11 +197,16 @@ impl Report {
         Ok(report)
     }
 
-    /// The report as JSON with every `timing` object removed and time regressions dropped: what
-    /// must be identical between a run and a rerun or a merge of shards on one machine.
+    /// The report as JSON with every `timing` object, `created` and a merge's `parts` removed and
+    /// time regressions dropped: what must be identical between a run and a rerun or a merge of
+    /// shards on one machine.
     pub fn without_timings(&self) -> serde_json::Value {
         let mut v = serde_json::to_value(self).expect("report serialises");
         strip_timing(&mut v);
+        if let Some(top) = v.as_object_mut() {
+            top.remove("created");
+            top.remove("parts");
+        }
         if let Some(regs) = v
             .pointer_mut("/baseline/regressions")
             .and_then(|r| r.as_array_mut())
@@ -479,6 +516,24 @@ pub fn merge(parts: &[Report]) -> Result<Report, ValidateError> {
         runs,
         wall,
     );
+    // The night is the shards': their earliest time, their build, their environment (when they
+    // share one), each shard's own in `parts`.
+    merged.created = parts.iter().filter_map(|p| p.created.clone()).min();
+    merged.commit = first.commit.clone();
+    merged.rsts_version = first.rsts_version.clone();
+    merged.environment = first
+        .environment
+        .clone()
+        .filter(|e| parts.iter().all(|p| p.environment.as_ref() == Some(e)));
+    merged.parts = parts
+        .iter()
+        .map(|p| Part {
+            shard: p.shard.unwrap_or(Shard { k: 1, n: 1 }),
+            created: p.created.clone(),
+            environment: p.environment.clone(),
+        })
+        .collect();
+    merged.parts.sort_by_key(|p| p.shard.k);
     // Regressions found by the shards against their baseline carry over.
     let with_baseline: Vec<&BaselineComparison> =
         parts.iter().filter_map(|p| p.baseline.as_ref()).collect();

@@ -76,6 +76,9 @@ pub struct Args {
     pub exec_name: String,
     #[command(flatten)]
     pub timeout: TimeoutArgs,
+    /// Record the run as a night in this validation history (SQLite; created when missing)
+    #[arg(long, value_name = "FILE")]
+    pub history: Option<PathBuf>,
 }
 
 #[derive(Debug, Clone, Subcommand)]
@@ -96,6 +99,9 @@ pub struct MergeArgs {
     /// A previous report.json (or its directory) to check for regressions
     #[arg(long, value_name = "OLD/report.json")]
     pub baseline: Option<PathBuf>,
+    /// Record the merged report as one night in this validation history
+    #[arg(long, value_name = "FILE")]
+    pub history: Option<PathBuf>,
 }
 
 /// Some run failed or regressed (exit code 1).
@@ -159,7 +165,9 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         if let Some(b) = &m.baseline {
             Report::read(b).map_err(|e| anyhow::anyhow!("--baseline: {e}"))?;
         }
+        check_history(m.history.as_deref())?;
         let report = merge_dirs(&m.dirs, &m.report, m.baseline.as_deref())?;
+        record_history(m.history.as_deref(), &report, &m.report)?;
         return finish(&report, &m.report, out);
     }
     let Some(suite) = args.suite else {
@@ -211,6 +219,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     if let Some(j) = args.jobs {
         rsts_harness::threads::check_jobs(j).map_err(|e| anyhow::anyhow!("--jobs: {e}"))?;
     }
+    check_history(args.history.as_deref())?;
     let opts = Options {
         suite,
         report_dir: report_dir.clone(),
@@ -233,5 +242,33 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         }
     };
     let report = validate(&opts, &progress)?;
+    record_history(args.history.as_deref(), &report, &report_dir)?;
     finish(&report, &report_dir, out)
+}
+
+/// `--history FILE`: refuse a database that cannot take the night before anything runs.
+fn check_history(history: Option<&std::path::Path>) -> anyhow::Result<()> {
+    if let Some(h) = history {
+        rsts_history::History::check_for_writing(h)
+            .map_err(|e| anyhow::anyhow!("--history: {e}"))?;
+    }
+    Ok(())
+}
+
+/// `--history FILE`: record the report just written as a night.
+fn record_history(
+    history: Option<&std::path::Path>,
+    report: &Report,
+    dir: &std::path::Path,
+) -> anyhow::Result<()> {
+    if let Some(h) = history {
+        let id = rsts_history::record(h, report, dir).map_err(|e| {
+            anyhow::anyhow!(
+                "--history: {e} (the report in {} was written)",
+                dir.display()
+            )
+        })?;
+        eprintln!("history: night {id} recorded in {}", h.display());
+    }
+    Ok(())
 }
