@@ -89,14 +89,17 @@ pub fn write(name: &str, bytes: &[u8]) -> String {
     p.to_str().unwrap().to_string()
 }
 
-/// The path `name` in this test process's temporary directory (created if needed):
-/// `rsts-<test file>-tests-<pid>`.
+/// The path `name` in this test file's temporary directory (created if needed):
+/// `rsts-<test file>-tests-<pid>`. All the files are modules of one test process, so the file is
+/// the first part of the running test's name (the name of its thread: `check::some_test`); two
+/// files may use the same `name` at the same time.
 pub fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "rsts-{}-tests-{}",
-        env!("CARGO_CRATE_NAME"),
-        std::process::id()
-    ));
+    let thread = std::thread::current();
+    let file = thread
+        .name()
+        .and_then(|n| n.split_once("::"))
+        .map_or("cli", |(file, _)| file);
+    let dir = std::env::temp_dir().join(format!("rsts-{file}-tests-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }
