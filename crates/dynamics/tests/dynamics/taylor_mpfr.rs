@@ -379,27 +379,20 @@ fn zeros_nan_and_out_of_sequence_calls() {
     }
 }
 
+/// Set in the child process of [`taylor_mp_runs_agree_with_either_kernel`] that checks the
+/// environment variable.
+const KERNEL_CHILD: &str = "RSTS_TEST_MPFR_KERNEL_CHILD";
+
 /// Whole taylor-mp runs with the limb kernel and with the generic path take the same steps and
 /// agree to the working precision (60 digits, T = 20): the limb kernel is the default, the
 /// environment variable and `with_mpfr_kernel` choose either.
 #[test]
 fn taylor_mp_runs_agree_with_either_kernel() {
-    let bits = rsts_dynamics::scalar::bits_for_digits(60);
-    let f = |x: f64| Float::with_val(bits, x);
-    let (s, c) = 0.3f64.sin_cos();
-    let problem = Problem {
-        fields: Fields {
-            a: f(1.0),
-            b: f(0.5),
-        },
-        initial: State {
-            omega: [f(0.4), f(-0.7), f(1.1)],
-            alpha: [f(c), f(s), f(0.0)],
-            beta: [f(-s), f(c), f(0.0)],
-        },
-    };
+    if std::env::var_os(KERNEL_CHILD).is_some() {
+        return kernel_from_the_environment();
+    }
+    let (bits, problem, tol) = kernel_problem();
     let grid = OutputGrid::new(20.0, 21).unwrap();
-    let tol = Tolerances::new(1e-60, 1e-60).unwrap();
     let limbs = Taylor::new(tol)
         .with_mpfr_kernel(MpfrKernelChoice::Limbs)
         .propagate_grid(&problem, &grid)
@@ -418,8 +411,51 @@ fn taylor_mp_runs_agree_with_either_kernel() {
     eprintln!("limb vs generic kernel over T = 20: {worst:e}");
     assert!(worst > 0.0 && worst < 1e-58, "{worst:e}");
     assert_eq!(MpfrKernelChoice::default(), MpfrKernelChoice::Limbs);
-    // The environment variable (read when a run starts; no other test of this file runs an
-    // integration, so setting it here races with nothing).
+    // The environment variable, read when a run starts: the environment is the whole process's
+    // and the other tests of this binary integrate at the same time, so this test runs again,
+    // alone, in a child process of this binary that sets it.
+    let child = std::process::Command::new(std::env::current_exe().unwrap())
+        .args([
+            "taylor_mpfr::taylor_mp_runs_agree_with_either_kernel",
+            "--exact",
+            "--test-threads=1",
+            "--nocapture",
+        ])
+        .env(KERNEL_CHILD, "1")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&child.stdout);
+    assert!(
+        child.status.success() && stdout.contains("1 passed"),
+        "the child process:\n{stdout}\n{}",
+        String::from_utf8_lossy(&child.stderr)
+    );
+}
+
+/// The motion of [`taylor_mp_runs_agree_with_either_kernel`] (a = 1, b = 1/2) at 60 digits: the
+/// precision in bits, the problem and the tolerances.
+fn kernel_problem() -> (u32, Problem<Float>, Tolerances) {
+    let bits = rsts_dynamics::scalar::bits_for_digits(60);
+    let f = |x: f64| Float::with_val(bits, x);
+    let (s, c) = 0.3f64.sin_cos();
+    let problem = Problem {
+        fields: Fields {
+            a: f(1.0),
+            b: f(0.5),
+        },
+        initial: State {
+            omega: [f(0.4), f(-0.7), f(1.1)],
+            alpha: [f(c), f(s), f(0.0)],
+            beta: [f(-s), f(c), f(0.0)],
+        },
+    };
+    (bits, problem, Tolerances::new(1e-60, 1e-60).unwrap())
+}
+
+/// The environment variable chooses the kernel (run alone in the child process of
+/// [`taylor_mp_runs_agree_with_either_kernel`]: setting it races with nothing).
+fn kernel_from_the_environment() {
+    let (_, problem, tol) = kernel_problem();
     let short = OutputGrid::new(2.0, 3).unwrap();
     let run = || Taylor::new(tol).propagate_grid(&problem, &short);
     std::env::set_var(MpfrKernelChoice::ENV, "generic");
