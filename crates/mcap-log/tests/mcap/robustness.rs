@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::cell::Cell;
 use std::sync::Once;
 
 use common::{samples, tmp, write_log};
@@ -13,24 +13,26 @@ use rand_chacha::ChaCha8Rng;
 use rsts_mcap::demo::{self, Precession};
 use rsts_mcap::{inspect, topics, InspectError, TrajectoryLog};
 
-static PANICKED: AtomicBool = AtomicBool::new(false);
+// Per thread: the hook is the whole process's, and the tests of the other files of this binary
+// run beside these (a panic of theirs is not one of the reader's here); the reader runs on the
+// calling thread.
+thread_local! {
+    static PANICKED: Cell<bool> = const { Cell::new(false) };
+}
 static HOOK: Once = Once::new();
 
 fn watch_panics() {
     HOOK.call_once(|| {
         let default = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
-            PANICKED.store(true, Ordering::SeqCst);
+            PANICKED.with(|p| p.set(true));
             default(info);
         }));
     });
 }
 
 fn assert_no_panic() {
-    assert!(
-        !PANICKED.load(Ordering::SeqCst),
-        "a panic happened while reading"
-    );
+    assert!(!PANICKED.with(Cell::get), "a panic happened while reading");
 }
 
 /// Summarises `bytes` written to a file; checks the invariants of a damaged-file result.
