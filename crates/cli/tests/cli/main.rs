@@ -2,7 +2,6 @@
 //! instead of one per file). One file's tests:
 //! `cargo test --release -p rsts-cli --test cli jobs::`.
 
-mod common;
 mod adapter_version;
 mod bad_input;
 mod bench;
@@ -11,6 +10,7 @@ mod bench_vs_heyoka;
 mod check;
 mod check_one_pass;
 mod check_stream;
+mod common;
 mod compare;
 mod contract;
 mod convergence;

@@ -2,8 +2,8 @@
 //! instead of one per file). One file's tests:
 //! `cargo test --release -p rsts-closed-form --test closed_form projector::`.
 
-mod common;
 mod against_integrator;
+mod common;
 mod diagram;
 mod events;
 mod hard_regimes;
