@@ -12,6 +12,8 @@ mod interrupt;
 mod invocation;
 mod jobs;
 mod output;
+mod report_table;
+mod watch;
 
 use std::io::{self, Write};
 use std::process::ExitCode;
@@ -183,9 +185,10 @@ fn main() -> ExitCode {
             let _ = writeln!(io::stderr(), "error: {e:#}");
             if e.downcast_ref::<inspect::Recovered>().is_some() {
                 ExitCode::from(EXIT_RECOVERED)
-            } else if e.downcast_ref::<compare::Interrupted>().is_some() {
+            } else if e.downcast_ref::<watch::Interrupted>().is_some() {
                 ExitCode::from(interrupt::exit_code())
             } else if e.downcast_ref::<validate::Failed>().is_some()
+                || e.downcast_ref::<watch::Failed>().is_some()
                 || e.downcast_ref::<identify::NotOnN>().is_some()
                 || e.downcast_ref::<history::Regressed>().is_some()
             {

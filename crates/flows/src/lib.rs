@@ -19,7 +19,10 @@
 //! What only organises the work (pieces, threads, chunks, one pass or two) never changes a digit
 //! of an outcome: each flow proves it in its tests.
 
+pub mod check;
+pub mod compare;
 pub mod error;
+pub mod log;
 pub mod verdict;
 
 pub use error::{ErrorKind, FlowError};

@@ -55,8 +55,9 @@ pub use case::Case;
 pub use check::{check, Check, CheckMotion, CheckReport, CheckRequest, CheckedCase};
 pub use check_stream::CheckStream;
 pub use compare::{
-    check_finite_report, compare, compare_integrator, preflight, reference_bits,
-    reference_bits_for, run_info, CompareOptions, DEFAULT_PIECES, REFERENCE_GUARD_BITS,
+    check_finite_report, compare, compare_at, compare_integrator, preflight, preflight_at,
+    reference_bits, reference_bits_for, run_info, sampled, CompareOptions, SampleTimes,
+    DEFAULT_PIECES, REFERENCE_GUARD_BITS,
 };
 pub use convergence::{
     convergence, fit_order, ConvergencePlan, ConvergenceReport, ConvergenceRow,

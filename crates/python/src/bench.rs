@@ -8,7 +8,7 @@ use rsts_harness::bench::{BenchIntegrator, BenchObserver, OutsideMethod};
 use rsts_harness::{BenchMethod, BenchRequest, HarnessError};
 
 use crate::case::{whole, Case};
-use crate::compare::{finish, Callable};
+use crate::compare::{finish_harness, Callable};
 use crate::{arrays, report_dict, value_error, Interrupts};
 
 impl BenchIntegrator for Callable {}
@@ -165,7 +165,7 @@ pub fn bench<'py>(
         warnings.call_method1("warn", (note.trim_start_matches("note: "),))?;
     }
     let callable_error = callables.iter().find_map(|c| c.0.take_error());
-    let report = finish(result, callable_error)?;
+    let report = finish_harness(result, callable_error)?;
     report_dict(py, &report)
 }
 

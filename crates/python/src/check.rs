@@ -1,65 +1,162 @@
-//! `rsts.check`: a trajectory computed elsewhere, as arrays, against the closed form
-//! (`rsts check FILE --format json`, the same [`rsts_harness::check`]).
+//! `rsts.check`: a trajectory computed elsewhere — a file, or arrays — against the closed form:
+//! the flow of `rsts check FILE` ([`rsts_flows::check`]), its document as a dict.
+
+use std::path::PathBuf;
 
 use pyo3::prelude::*;
-use rug::Float;
+use pyo3::types::{PyList, PyString, PyTuple};
 
-use rsts_closed_form::Motion;
-use rsts_dynamics::State;
+use rsts_closed_form::events::EventName;
+use rsts_closed_form::{Decimal, Motion};
+use rsts_flows::check::{CheckRequest, DetectedEvents, Source};
+use rsts_flows::Limits;
+use rsts_harness::events::DetectedEvent;
 use rsts_harness::reference::check_times;
-use rsts_harness::{check_finite_report, CheckMotion, CheckRequest, HarnessError};
+use rsts_harness::CheckMotion;
 
-use crate::case::whole;
-use crate::compare::{finish, Watch};
-use crate::{arrays, harness_error, report_dict, value_error, Interrupts};
+use crate::case::{number, whole, Case};
+use crate::compare::{event_specs, finish, Watch};
+use crate::{arrays, report_dict, value_error, Interrupts};
 
-/// Check a trajectory computed elsewhere — `times` (1-D, strictly increasing, any spacing) and
-/// `states` (shape (len(times), 9): omega, alpha, beta per row) — against the exact motion on N:
-/// a dict with the keys of `rsts check FILE --format json` (file, case, start_state_error,
-/// start_distance_from_N, and the report of `rsts.compare`: max_state_error, drift, ...).
+/// A path argument (str or os.PathLike), if it is one.
+fn path(obj: &Bound<'_, PyAny>) -> Option<PathBuf> {
+    if obj.is_instance_of::<PyString>() || obj.hasattr("__fspath__").unwrap_or(false) {
+        obj.extract::<PathBuf>().ok()
+    } else {
+        None
+    }
+}
+
+/// `events=`: a file (path) or a list of (name, t) pairs or {"name", "t"} dicts in time order.
+fn detected(obj: &Bound<'_, PyAny>) -> PyResult<DetectedEvents> {
+    if let Some(p) = path(obj) {
+        return Ok(DetectedEvents::File(p));
+    }
+    let list = obj.cast::<PyList>().map_err(|_| {
+        value_error(
+            &["events"],
+            format!(
+                "expected a file path or a list of (name, t), got {}",
+                arrays::describe(obj)
+            ),
+        )
+    })?;
+    let mut out: Vec<DetectedEvent> = Vec::new();
+    for (i, item) in list.iter().enumerate() {
+        let (name, t): (String, f64) = if let Ok(pair) = item.cast::<PyTuple>() {
+            pair.extract()
+        } else {
+            item.get_item("name")
+                .and_then(|n| n.extract())
+                .and_then(|n| Ok((n, item.get_item("t")?.extract()?)))
+        }
+        .map_err(|_| {
+            value_error(
+                &["events"],
+                format!("events[{i}]: expected (name, t) or {{\"name\", \"t\"}}"),
+            )
+        })?;
+        let name = EventName::parse(name.trim()).ok_or_else(|| {
+            value_error(&["events"], format!("events[{i}]: unknown event '{name}'"))
+        })?;
+        if !t.is_finite() {
+            return Err(value_error(
+                &["events"],
+                format!("events[{i}]: the time is not a finite number"),
+            ));
+        }
+        if out.last().is_some_and(|last| t < last.t) {
+            return Err(value_error(
+                &["events"],
+                format!("events[{i}]: t = {t} is before the previous event's; list events in time order"),
+            ));
+        }
+        out.push(DetectedEvent { name, t });
+    }
+    Ok(DetectedEvents::List(out))
+}
+
+/// Check a trajectory computed elsewhere against the exact motion on N: a dict with the keys of
+/// `rsts check FILE --format json` (file, case, start_state_error, start_distance_from_n, the
+/// report of `rsts.compare`: max_state_error, drift, ...; with `events`, "events").
 ///
-/// The motion is given by m and h (with torus, phase1, phase2: the angles at t = 0), or, without
-/// them, identified from the first row, which must lie on N (relative distance <= 1e-8).
-/// `digits`: the decimal digits the data carry (default 15, float64); the reference is
-/// evaluated 64 bits beyond (at least 30 digits). `name` is the report's `method`.
+/// The trajectory is a file — `source` a path (str or os.PathLike): .csv, .json, .npy or
+/// .mcap, read as `rsts check FILE` reads it, a chunk at a time — or arrays: `source` the times
+/// (1-D, strictly increasing, any spacing) and `states` (shape (len(times), 9): omega, alpha,
+/// beta per row), analysed a chunk at a time like a file's rows.
+///
+/// The motion is `case` (a `Case`), or given by m and h (with torus, phase1, phase2: the angles
+/// at t = 0) in fields a, b, or, without them, identified from the first row, which must lie on
+/// N (relative distance <= 1e-8). Numbers as in `Case`: a str is the decimal it holds, a float
+/// its exact binary value. `digits`: the decimal digits the data carry (default 15 for float64
+/// arrays; a file's as `rsts check` decides); the reference is evaluated 64 bits beyond (at
+/// least 30 digits). `name` is the report's `method` for arrays ("arrays").
+///
+/// `events`: the events the integrator detected — a file (CSV name,t or JSON {"events": [...]})
+/// or a list of (name, t) — matched with the exact events of the same names (and of `expect`,
+/// names such as "omega1") in (t_first, t_last].
 ///
 /// The GIL is released while Rust works; Ctrl-C raises KeyboardInterrupt. Bad input (shapes,
-/// NaN, times not increasing, a motion that does not exist) raises ValueError.
+/// NaN, times not increasing, a file that is not a trajectory, a motion that does not exist)
+/// raises ValueError.
 #[pyfunction]
-#[pyo3(signature = (times, states, a = 1.0, b = 0.5, m = None, h = None, torus = None, phase1 = None, phase2 = None, digits = None, name = "arrays"))]
+#[pyo3(signature = (source, states = None, a = None, b = None, m = None, h = None, torus = None, phase1 = None, phase2 = None, case = None, digits = None, name = "arrays", events = None, expect = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn check<'py>(
     py: Python<'py>,
-    times: &Bound<'py, PyAny>,
-    states: &Bound<'py, PyAny>,
-    a: f64,
-    b: f64,
-    m: Option<f64>,
-    h: Option<f64>,
+    source: &Bound<'py, PyAny>,
+    states: Option<&Bound<'py, PyAny>>,
+    a: Option<&Bound<'py, PyAny>>,
+    b: Option<&Bound<'py, PyAny>>,
+    m: Option<&Bound<'py, PyAny>>,
+    h: Option<&Bound<'py, PyAny>>,
     torus: Option<i64>,
-    phase1: Option<f64>,
-    phase2: Option<f64>,
+    phase1: Option<&Bound<'py, PyAny>>,
+    phase2: Option<&Bound<'py, PyAny>>,
+    case: Option<Case>,
     digits: Option<i64>,
     name: &str,
+    events: Option<&Bound<'py, PyAny>>,
+    expect: Option<Vec<String>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let exact = |name, x: f64| {
-        rsts_closed_form::motion::binary(name, x).map_err(|e| value_error(&[name], e.error))
+    let given = |name, x: Option<&Bound<'py, PyAny>>, default: i64| match x {
+        Some(x) => number(name, x),
+        None => Ok(Decimal::from_integer(default)),
     };
-    let (a, b) = (exact("a", a)?, exact("b", b)?);
-    let motion = match (m, h) {
-        (Some(m), Some(h)) => CheckMotion::Given(Motion {
-            a,
-            b,
-            m: exact("m", m)?,
-            h: exact("h", h)?,
-            torus: whole("torus", torus.unwrap_or(0))?,
-            phase1: exact("phase1", phase1.unwrap_or(0.0))?,
-            phase2: exact("phase2", phase2.unwrap_or(0.0))?,
-        }),
-        (None, None) if torus.is_none() && phase1.is_none() && phase2.is_none() => {
-            CheckMotion::Identify { a, b }
+    let motion = match (case, m, h) {
+        (Some(case), None, None)
+            if [a, b, phase1, phase2].iter().all(Option::is_none) && torus.is_none() =>
+        {
+            CheckMotion::Given(case.motion)
         }
-        (None, None) => {
+        (Some(_), ..) => {
+            return Err(value_error(
+                &["case"],
+                "the case gives the whole motion: not with a, b, m, h, torus, phase1, phase2",
+            ))
+        }
+        (None, Some(m), Some(h)) => CheckMotion::Given(Motion {
+            a: given("a", a, 1)?,
+            b: match b {
+                Some(b) => number("b", b)?,
+                None => Decimal::parse("0.5").expect("a decimal"),
+            },
+            m: number("m", m)?,
+            h: number("h", h)?,
+            torus: whole("torus", torus.unwrap_or(0))?,
+            phase1: given("phase1", phase1, 0)?,
+            phase2: given("phase2", phase2, 0)?,
+        }),
+        (None, None, None) if torus.is_none() && phase1.is_none() && phase2.is_none() => {
+            CheckMotion::Identify {
+                a: given("a", a, 1)?,
+                b: match b {
+                    Some(b) => number("b", b)?,
+                    None => Decimal::parse("0.5").expect("a decimal"),
+                },
+            }
+        }
+        (None, None, None) => {
             return Err(value_error(
                 &["torus", "phase1", "phase2"],
                 "need m and h (without them the whole motion is identified from the first row)",
@@ -68,40 +165,54 @@ pub fn check<'py>(
         _ => return Err(value_error(&["m", "h"], "give both or neither")),
     };
     let digits = match digits {
-        None => 15,
-        Some(d) if (1..=10_000).contains(&d) => d as u32,
-        Some(d) => {
+        None => None,
+        Some(d) => Some(u32::try_from(d).map_err(|_| {
+            value_error(&["digits"], format!("must be between 1 and 10000, got {d}"))
+        })?),
+    };
+    let source = match (path(source), states) {
+        (Some(file), None) => Source::File(file),
+        (Some(_), Some(_)) => {
             return Err(value_error(
-                &["digits"],
-                format!("must be between 1 and 10000, got {d}"),
+                &["states"],
+                "a file holds the states: give the path alone",
+            ))
+        }
+        (None, Some(states)) => {
+            let t = arrays::vector(source, "times")?;
+            check_times(&t).map_err(|e| value_error(&["times"], e))?;
+            let x = arrays::states(states, "states", Some(t.len()), Some(&t))?;
+            Source::Arrays {
+                times: t,
+                states: x,
+                name: name.to_string(),
+            }
+        }
+        (None, None) => {
+            return Err(value_error(
+                &["states"],
+                format!(
+                    "give a file path, or times and states; got {} alone",
+                    arrays::describe(source)
+                ),
             ))
         }
     };
     let request = CheckRequest {
-        file: "<arrays>".into(),
-        name: name.to_string(),
         motion,
+        source,
         digits,
+        events: events.map(detected).transpose()?,
+        expect: event_specs(expect, "expect")?,
+        mcap: None,
+        jobs: None,
+        limits: Limits::default(),
     };
-    request.validate().map_err(|e| match e {
-        HarnessError::Dynamics(_) => value_error(&["a", "b"], e),
-        e => harness_error(e),
-    })?;
-    let t = arrays::vector(times, "times")?;
-    check_times(&t).map_err(|e| value_error(&["times"], e))?;
-    let x = arrays::states(states, "states", Some(t.len()), Some(&t))?;
     let result = py.detach(move || {
-        let bits = request.reference_bits();
-        let times: Vec<Float> = t.iter().map(|&t| Float::with_val(bits, t)).collect();
-        let states: Vec<State<Float>> = x
-            .iter()
-            .map(|r| State::from_slice(r).map(|v| Float::with_val(bits, *v)))
-            .collect();
         let mut watch = Watch(Interrupts::new());
-        let result = rsts_harness::check(&request, &times, &states, &mut watch);
-        Ok::<_, HarnessError>((result, watch.0.take()))
+        let result = rsts_flows::check::check(request, &mut watch);
+        (result, watch.0.take())
     });
-    let report = finish(result, None)?;
-    check_finite_report(&report.report).map_err(harness_error)?;
-    report_dict(py, &report)
+    let outcome = finish(result, None)?;
+    report_dict(py, &outcome)
 }

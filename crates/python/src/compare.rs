@@ -1,5 +1,6 @@
-//! `rsts.compare`: a built-in method or a Python callable against the closed form
-//! (`rsts compare --format json`), and the callable as a harness [`Integrator`].
+//! `rsts.compare`: a built-in method or a Python callable against the closed form — the flow
+//! of `rsts compare` ([`rsts_flows::compare`]), its document as a dict — and the callable as a
+//! harness [`Integrator`].
 
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -9,12 +10,13 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rug::Float;
 
+use rsts_closed_form::events::EventSpec;
 use rsts_dynamics::integrators::{MethodConfig, MethodName, Problem, Stats, Tolerances};
 use rsts_dynamics::State;
-use rsts_harness::environment::Environment;
+use rsts_flows::compare::{CompareRequest, Method};
+use rsts_flows::{FlowError, Limits, Times};
 use rsts_harness::{
-    check_finite_report, check_times, compare_integrator, preflight, CompareOptions, HarnessError,
-    Integrator, Observer, Report, SampleRecord, Trajectory, MAX_SAMPLES,
+    check_times, HarnessError, Integrator, Observer, SampleRecord, Trajectory, DEFAULT_PIECES,
 };
 
 use crate::case::{whole, Case};
@@ -156,6 +158,11 @@ impl Integrator for Callable {
 pub(crate) struct Watch(pub(crate) Interrupts);
 
 impl Observer for Watch {
+    /// Only the errors are looked at.
+    fn wants_states(&self) -> bool {
+        false
+    }
+
     fn on_sample(&mut self, _record: &SampleRecord) -> Result<(), String> {
         if self.0.stopped() {
             return Err("interrupted".into());
@@ -168,17 +175,39 @@ impl Observer for Watch {
     }
 }
 
+impl rsts_flows::check::Progress for Watch {}
+
 /// The integrator of a comparison: a built-in method or a callable.
 enum Chosen {
     Method(MethodConfig),
     Callable(Callable),
 }
 
+/// `events=`: names such as "omega1:up" (each once).
+pub(crate) fn event_specs(names: Option<Vec<String>>, what: &str) -> PyResult<Vec<EventSpec>> {
+    let mut specs: Vec<EventSpec> = Vec::new();
+    for s in names.unwrap_or_default() {
+        let spec: EventSpec = s
+            .parse()
+            .map_err(|e| value_error(&[what], format!("'{s}': {e}")))?;
+        if specs.iter().any(|p| p.name == spec.name) {
+            return Err(value_error(
+                &[what],
+                format!("'{s}': {} is asked for twice", spec.name),
+            ));
+        }
+        specs.push(spec);
+    }
+    Ok(specs)
+}
+
 /// Compare an integrator with the closed form along `case` (default: `Case.default()`) at
-/// `samples` times evenly spaced on [0, t_end]: a dict with the keys of
-/// `rsts compare --format json` (method, rtol, atol, digits, camera, samples_compared,
-/// max_state_error, final_state_error, drift, steps, rhs_evals, integration_seconds, normal,
-/// phase_error, error_split, ...).
+/// `samples` times evenly spaced on [0, t_end], or at `times` (1-D, from 0, strictly
+/// increasing: used exactly as given): a dict with the keys of `rsts compare --format json`
+/// (method, rtol, atol, digits, camera, samples_compared, max_state_error, final_state_error,
+/// drift, steps, rhs_evals, integration_seconds, normal, phase_error, error_split, ...,
+/// environment; with `events`, "events"; with `dense`, dense, dense_steps, step_max_error,
+/// dense_max_error).
 ///
 /// `integrator` is a built-in method name (rsts.METHODS: "rk4", "dopri5", "dop853",
 /// "taylor-f64", "taylor-dd", "taylor-mp"; `digits` sets taylor-mp's) or a callable
@@ -189,9 +218,15 @@ enum Chosen {
 /// it raises propagates unchanged; an answer of the wrong shape, with NaN, or not an array
 /// raises ValueError naming what was wrong.
 ///
+/// `events`: names such as ["omega1:up", "gamma2"], located in the samples (cubic Hermite
+/// interpolation) and matched with the exact events (docs/events.md). `dense=K`: K samples of a
+/// built-in method's dense output inside each of its steps, checked apart from the step ends.
+/// `pieces`: at most this many calls of a restartable integrator (Ctrl-C between them); no
+/// digit of the report depends on it.
+///
 /// The GIL is released while Rust works; Ctrl-C raises KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (integrator, case = None, t_end = 100.0, samples = 1001, rtol = 1e-10, atol = 1e-10, digits = None))]
+#[pyo3(signature = (integrator, case = None, t_end = 100.0, samples = 1001, rtol = 1e-10, atol = 1e-10, digits = None, times = None, events = None, dense = None, pieces = DEFAULT_PIECES as i64))]
 #[allow(clippy::too_many_arguments)]
 pub fn compare<'py>(
     py: Python<'py>,
@@ -202,15 +237,19 @@ pub fn compare<'py>(
     rtol: f64,
     atol: f64,
     digits: Option<i64>,
+    times: Option<&Bound<'py, PyAny>>,
+    events: Option<Vec<String>>,
+    dense: Option<i64>,
+    pieces: i64,
 ) -> PyResult<Bound<'py, PyAny>> {
     let case = Case::or_default(case)?;
-    let samples = whole("samples", samples)?;
-    if samples > MAX_SAMPLES {
-        return Err(value_error(
-            &["samples"],
-            format!("at most {MAX_SAMPLES} samples are supported, got {samples}"),
-        ));
-    }
+    let times = match times {
+        Some(t) => Times::Binary(arrays::vector(t, "times")?),
+        None => Times::grid(
+            crate::case::time("t_end", t_end)?,
+            whole("samples", samples)?,
+        ),
+    };
     let tolerances = Tolerances::new(rtol, atol).map_err(|e| value_error(&["rtol", "atol"], e))?;
     let mut chosen = if let Ok(name) = integrator.extract::<String>() {
         let method: MethodName = name.parse().map_err(|e| value_error(&["integrator"], e))?;
@@ -234,43 +273,30 @@ pub fn compare<'py>(
             ),
         ));
     };
-    let case = case.on_grid(crate::case::time("t_end", t_end)?, samples);
-    case.validate().map_err(harness_error)?;
+    let events = event_specs(events, "events")?;
+    let dense = dense.map(|k| whole("dense", k)).transpose()?;
+    let pieces = whole("pieces", pieces)?;
     let result = py.detach(|| {
-        match &chosen {
-            Chosen::Method(config) => preflight(&case, config)?,
-            Chosen::Callable(_) => {
-                case.reference_motion(64)?;
-            }
-        }
         let mut watch = Watch(Interrupts::new());
-        let integrator: &mut dyn Integrator = match &mut chosen {
-            Chosen::Method(config) => config,
-            Chosen::Callable(callable) => callable,
+        let method = match &mut chosen {
+            Chosen::Method(config) => Method::Builtin(*config),
+            Chosen::Callable(callable) => Method::Outside(callable),
         };
-        let options = CompareOptions::default();
-        let result = compare_integrator(&case, integrator, &options, &mut watch);
-        Ok::<_, HarnessError>((result, watch.0.take()))
+        let request = CompareRequest {
+            motion: case.motion.clone(),
+            times,
+            method,
+            events,
+            dense,
+            pieces,
+            mcap: None,
+            limits: Limits::default(),
+        };
+        let result = rsts_flows::compare::compare(request, &mut watch);
+        (result, watch.0.take())
     });
-    // A callable's steps are not seen: not known ([`Callable::stated_stats`]).
-    let report: Report = finish(result, chosen_error(&mut chosen))?;
-    // A report with a non-finite figure is an error, as in the CLI.
-    check_finite_report(&report).map_err(harness_error)?;
-    report_dict(
-        py,
-        &Timed {
-            report: &report,
-            environment: Environment::detect(),
-        },
-    )
-}
-
-/// The report with where its time was taken, as `rsts compare --format json` prints it.
-#[derive(serde::Serialize)]
-struct Timed<'a> {
-    #[serde(flatten)]
-    report: &'a Report,
-    environment: Environment,
+    let outcome = finish(result, chosen_error(&mut chosen))?;
+    report_dict(py, &outcome)
 }
 
 fn chosen_error(chosen: &mut Chosen) -> Option<PyErr> {
@@ -280,9 +306,34 @@ fn chosen_error(chosen: &mut Chosen) -> Option<PyErr> {
     }
 }
 
-/// The report of a run, or the exception that stopped it: the callable's own, then Ctrl-C's,
-/// then the harness's error as ValueError/RuntimeError.
+/// The outcome of a flow, or the exception that stopped it: the callable's own, then Ctrl-C's,
+/// then the flow's error (ValueError for bad input, RuntimeError for a failed run).
 pub(crate) fn finish<R>(
+    (result, interrupt): (Result<R, FlowError>, Option<PyErr>),
+    callable_error: Option<PyErr>,
+) -> PyResult<R> {
+    if let Some(e) = callable_error {
+        return Err(e);
+    }
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
+    result.map_err(flow_error)
+}
+
+/// A flow's error as Python raises it.
+pub(crate) fn flow_error(e: FlowError) -> PyErr {
+    match e {
+        FlowError::Harness(h) => harness_error(h),
+        FlowError::Input { names, message } => value_error(&names, message),
+        FlowError::Interrupted(_) => pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string()),
+        FlowError::Output(_) => pyo3::exceptions::PyRuntimeError::new_err(e.to_string()),
+    }
+}
+
+/// The report of a harness run, or the exception that stopped it: the callable's own, then
+/// Ctrl-C's, then the harness's error as ValueError/RuntimeError.
+pub(crate) fn finish_harness<R>(
     result: Result<(Result<R, HarnessError>, Option<PyErr>), HarnessError>,
     callable_error: Option<PyErr>,
 ) -> PyResult<R> {

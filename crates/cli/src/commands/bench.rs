@@ -237,7 +237,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         return merge::run(m, out);
     }
     let case = args.case();
-    let specs = crate::commands::events::parse_specs(&args.event)?;
+    let specs = crate::watch::parse_specs(&args.event)?;
     if let Some(e) = args.max_event_error {
         if e < 0.0 {
             bail!("--max-event-error: must be non-negative, got {e}");
@@ -292,7 +292,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         shown: false,
     };
     if let Some(k) = args.dense {
-        crate::commands::compare::check_dense_option(k)?;
+        rsts_flows::compare::check_dense(k).map_err(|e| crate::watch::flow_error(e, ""))?;
         if args.ensemble.is_some() {
             bail!("--dense: not with --ensemble (the dense check is one more run per row of one motion)");
         }

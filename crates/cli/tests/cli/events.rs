@@ -347,7 +347,7 @@ fn compare_event_for_built_ins_and_an_adapter_that_drops_one() {
     assert_eq!(run(&dropped).status.code(), Some(1));
     // The built-ins cannot locate s1, s2: refused naming the option.
     let out = rsts_command("compare", &["--event", "s1"]);
-    assert!(exit_2(&out, "s1").contains("--event s1"));
+    assert!(exit_2(&out, "s1").contains("--event: s1"));
 }
 
 /// bench --event: every row carries the events' counts (built-in: located in an extra run's
