@@ -1,12 +1,8 @@
 //! `--jobs N`: the threads a command computes its samples on (default: every core). Results are
-//! collected in input order, so the output does not depend on N.
+//! collected in input order (the flows batch them), so the output does not depend on N.
 
 use anyhow::Context;
 use clap::Args as ClapArgs;
-use rayon::prelude::*;
-
-/// Samples computed per parallel batch (written in order between batches).
-pub const BATCH: usize = 8192;
 
 /// The `--jobs` option.
 #[derive(Debug, Clone, Copy, ClapArgs)]
@@ -33,19 +29,4 @@ impl JobsArgs {
         }
         b.build().context("--jobs: cannot start the threads")
     }
-}
-
-/// `f` over `items` in batches of [`BATCH`] on `pool`, each batch's results handed to `sink` in
-/// input order.
-pub fn for_each_batch<T: Sync, R: Send, E>(
-    pool: &rayon::ThreadPool,
-    items: &[T],
-    f: impl Fn(&T) -> R + Sync,
-    mut sink: impl FnMut(Vec<R>) -> Result<(), E>,
-) -> Result<(), E> {
-    for chunk in items.chunks(BATCH) {
-        let out: Vec<R> = pool.install(|| chunk.par_iter().map(&f).collect());
-        sink(out)?;
-    }
-    Ok(())
 }

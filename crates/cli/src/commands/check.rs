@@ -279,7 +279,7 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
             Some(parse_detected(&text).map_err(|e| anyhow!("--events {}: {e}", path.display()))?)
         }
     };
-    let mut event_specs = crate::commands::events::parse_specs(&args.event)?;
+    let mut event_specs = crate::args::event_specs(&args.event)?;
     if let Some(e) = args.max_event_error {
         if e < 0.0 {
             bail!("--max-event-error: must be non-negative, got {e}");

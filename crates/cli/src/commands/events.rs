@@ -1,19 +1,17 @@
 //! `rsts events`: the exact times in (t_start, t_end] at which state components, components of
 //! γ = α × β or the rates of the separated variables cross zero along the closed-form motion
-//! (docs/events.md). Parsing and formatting only: the events are `rsts_closed_form::events`.
+//! (docs/events.md). Parsing and formatting only: the flow is `rsts_flows::events`.
 
 use std::io::Write;
 
-use anyhow::bail;
 use clap::Args as ClapArgs;
 
-use rsts_closed_form::events::{events_report, EventCase, EventSpec, Number};
+use rsts_flows::events::{events_report, EventsRequest};
+use rsts_flows::Decimal;
 
-use crate::args::{finite_f64, CaseArgs};
+use crate::args::{decimal, event_specs, flow_error, CaseArgs};
+use crate::numbers::{cell, time_cell, vector_columns};
 use crate::output::{self, Cell, Format, Tabular};
-
-/// Largest number of digits accepted.
-pub const MAX_DIGITS: u32 = 10_000;
 
 /// Shown at the end of `rsts events --help`.
 pub const EXAMPLES: &str = "\
@@ -38,11 +36,11 @@ pub struct Args {
     #[arg(long = "event", value_name = "NAME[:DIR]", required = true)]
     pub events: Vec<String>,
     /// Start of the window (t_start, t_end]
-    #[arg(long, value_name = "T", default_value = "0", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub t_start: f64,
+    #[arg(long, value_name = "T", default_value = "0", value_parser = decimal, allow_hyphen_values = true)]
+    pub t_start: Decimal,
     /// End of the window (t_start, t_end]
-    #[arg(long, value_name = "T", default_value = "10", value_parser = finite_f64, allow_hyphen_values = true)]
-    pub t_end: f64,
+    #[arg(long, value_name = "T", default_value = "10", value_parser = decimal, allow_hyphen_values = true)]
+    pub t_end: Decimal,
     /// Decimal digits of the times and states (16 to 10000; computed with 64 guard bits); default: f64, correctly rounded
     #[arg(long, value_name = "D")]
     pub digits: Option<u32>,
@@ -51,65 +49,25 @@ pub struct Args {
     pub format: Format,
 }
 
-/// The specs of the `--event` options, naming the option on a bad one.
-pub fn parse_specs(raw: &[String]) -> anyhow::Result<Vec<EventSpec>> {
-    let mut specs: Vec<EventSpec> = Vec::new();
-    for s in raw {
-        let spec: EventSpec = s
-            .parse()
-            .map_err(|e| anyhow::anyhow!("--event '{s}': {e}"))?;
-        if specs.iter().any(|p| p.name == spec.name) {
-            bail!("--event '{s}': {} is asked for twice", spec.name);
-        }
-        specs.push(spec);
-    }
-    Ok(specs)
-}
-
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    let specs = parse_specs(&args.events)?;
-    if let Some(d) = args.digits {
-        if !(16..=MAX_DIGITS).contains(&d) {
-            bail!("--digits: must be between 16 and {MAX_DIGITS}, got {d}");
-        }
-    }
-    if args.t_end <= args.t_start {
-        bail!(
-            "--t-end: the window (t_start, t_end] = ({}, {}] is empty: need --t-end > --t-start",
-            args.t_start,
-            args.t_end
-        );
-    }
-    let c = &args.case;
-    let case = EventCase {
-        motion: c.motion(),
-        t_start: args.t_start,
-        t_end: args.t_end,
+    let specs = event_specs(&args.events)?;
+    let request = EventsRequest {
+        motion: args.case.motion(),
+        events: specs.clone(),
+        t_start: args.t_start.clone(),
+        t_end: args.t_end.clone(),
         digits: args.digits,
-        camera: String::new(),
     };
-    let report = events_report(case, &specs).map_err(crate::args::case_error)?;
+    let report = events_report(&request).map_err(flow_error)?;
     // The state columns after t, as in every state CSV of rsts; then the event's name and
     // direction (`check --events` reads this file as it is).
-    let names: Vec<String> = ["omega", "alpha", "beta"]
-        .iter()
-        .flat_map(|n| (1..=3).map(move |i| format!("{n}{i}")))
-        .collect();
-    let mut header = vec!["t"];
-    header.extend(names.iter().map(String::as_str));
-    header.extend(["name", "direction"]);
-    let cell = |x: &Number, table: bool| match x {
-        Number::F64(v) => Cell::Num(*v),
-        Number::Decimal(_) if table => Cell::Num(x.to_f64()),
-        Number::Decimal(s) => Cell::Text(s.clone()),
-    };
+    let mut header = vec!["t".to_string()];
+    header.extend(vector_columns(&["omega", "alpha", "beta"]));
+    header.extend(["name".to_string(), "direction".to_string()]);
     let rows = |table: bool| {
         report.events.iter().map(move |e| {
-            let mut row = vec![match &e.t {
-                // The time in full, also in the table.
-                Number::F64(v) => Cell::Text(format!("{v:?}")),
-                Number::Decimal(s) => Cell::Text(s.clone()),
-            }];
+            // The time in full, also in the table.
+            let mut row = vec![time_cell(&e.t)];
             for v in [&e.state.omega, &e.state.alpha, &e.state.beta] {
                 row.extend(v.iter().map(|x| cell(x, table)));
             }
@@ -120,13 +78,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     };
     match args.format {
         Format::Json => output::write_json(out, &report)?,
-        Format::Csv => output::write_csv_rows(
-            out,
-            &header.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
-            rows(false),
-        )?,
+        Format::Csv => output::write_csv_rows(out, &header, rows(false))?,
         Format::Table => {
             let k = &report.case;
+            let m = &k.motion;
             let asked: Vec<String> = specs
                 .iter()
                 .map(|s| format!("{}:{}", s.name, s.direction.as_str()))
@@ -135,19 +90,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 out,
                 &[
                     ("camera", k.camera.clone()),
-                    (
-                        "a, b, m, h",
-                        format!(
-                            "{}, {}, {}, {}",
-                            k.motion.a, k.motion.b, k.motion.m, k.motion.h
-                        ),
-                    ),
+                    ("a, b, m, h", format!("{}, {}, {}, {}", m.a, m.b, m.m, m.h)),
                     (
                         "torus, phases",
-                        format!(
-                            "{}, ({}, {})",
-                            k.motion.torus, k.motion.phase1, k.motion.phase2
-                        ),
+                        format!("{}, ({}, {})", m.torus, m.phase1, m.phase2),
                     ),
                     ("window", format!("({}, {}]", k.t_start, k.t_end)),
                     ("events asked", asked.join(" ")),
@@ -160,7 +106,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
                 ],
             )?;
             writeln!(out)?;
-            let mut table = Tabular::new(header.iter().copied());
+            let mut table = Tabular::new(header);
             for row in rows(true) {
                 table.push(row);
             }

@@ -196,9 +196,10 @@ pub fn whole_check(
     let request = rsts_harness::CheckRequest {
         file: file.to_string(),
         name: name.to_string(),
-        a: 1.0,
-        b: 0.5,
-        motion: None,
+        motion: rsts_harness::CheckMotion::Identify {
+            a: rsts_closed_form::Decimal::from_integer(1),
+            b: rsts_closed_form::Decimal::parse("0.5").unwrap(),
+        },
         digits,
     };
     let samples = raw.to_samples(request.reference_bits());
