@@ -273,6 +273,27 @@ pub fn case_error(e: impl Into<rsts_harness::HarnessError>) -> anyhow::Error {
     }
 }
 
+/// The specs of `--event` options (`NAME[:up|down|both]`, each function once), naming the
+/// option and the spec on a bad one.
+pub fn event_specs(raw: &[String]) -> anyhow::Result<Vec<rsts_closed_form::events::EventSpec>> {
+    rsts_flows::events::event_specs(raw).map_err(|e| anyhow::anyhow!("--event {e}"))
+}
+
+/// An error of a flow, prefixed with the options it concerns (`--t-end: …`, `--m/--h: …`).
+pub fn flow_error(e: rsts_flows::FlowError) -> anyhow::Error {
+    match e {
+        rsts_flows::FlowError::Harness(h) => case_error(h),
+        e => {
+            let names = e.names();
+            if names.is_empty() {
+                anyhow::anyhow!("{e}")
+            } else {
+                anyhow::anyhow!("--{}: {e}", names.join("/--"))
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,12 +1,7 @@
 //! `--jobs N`: the threads a command computes its samples on (default: every core). Results are
-//! collected in input order, so the output does not depend on N.
+//! collected in input order (the flows batch them), so the output does not depend on N.
 
-use anyhow::Context;
 use clap::Args as ClapArgs;
-use rayon::prelude::*;
-
-/// Samples computed per parallel batch (written in order between batches).
-pub const BATCH: usize = 8192;
 
 /// The `--jobs` option.
 #[derive(Debug, Clone, Copy, ClapArgs)]
@@ -26,30 +21,4 @@ fn threads(s: &str) -> Result<usize, String> {
             rsts_external::samples::cut(s)
         )),
     }
-}
-
-impl JobsArgs {
-    /// A thread pool of `--jobs` threads.
-    pub fn pool(&self) -> anyhow::Result<rayon::ThreadPool> {
-        let mut b = rayon::ThreadPoolBuilder::new();
-        if let Some(n) = self.jobs {
-            b = b.num_threads(n);
-        }
-        b.build().context("--jobs: cannot start the threads")
-    }
-}
-
-/// `f` over `items` in batches of [`BATCH`] on `pool`, each batch's results handed to `sink` in
-/// input order.
-pub fn for_each_batch<T: Sync, R: Send, E>(
-    pool: &rayon::ThreadPool,
-    items: &[T],
-    f: impl Fn(&T) -> R + Sync,
-    mut sink: impl FnMut(Vec<R>) -> Result<(), E>,
-) -> Result<(), E> {
-    for chunk in items.chunks(BATCH) {
-        let out: Vec<R> = pool.install(|| chunk.par_iter().map(&f).collect());
-        sink(out)?;
-    }
-    Ok(())
 }

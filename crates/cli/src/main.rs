@@ -11,6 +11,7 @@ mod external;
 mod interrupt;
 mod invocation;
 mod jobs;
+mod numbers;
 mod output;
 mod report_table;
 mod watch;

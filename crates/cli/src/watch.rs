@@ -8,7 +8,6 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rsts_closed_form::events::EventSpec;
 use rsts_flows::FlowError;
 use rsts_harness::{Observer, SampleRecord};
 
@@ -49,21 +48,6 @@ pub fn flow_error(e: FlowError, output: &str) -> anyhow::Error {
         }
         other => anyhow::anyhow!("{other}"),
     }
-}
-
-/// `--event NAME[:DIR]` options as event specs (each name once).
-pub fn parse_specs(raw: &[String]) -> anyhow::Result<Vec<EventSpec>> {
-    let mut specs: Vec<EventSpec> = Vec::new();
-    for s in raw {
-        let spec: EventSpec = s
-            .parse()
-            .map_err(|e| anyhow::anyhow!("--event '{s}': {e}"))?;
-        if specs.iter().any(|p| p.name == spec.name) {
-            anyhow::bail!("--event '{s}': {} is asked for twice", spec.name);
-        }
-        specs.push(spec);
-    }
-    Ok(specs)
 }
 
 /// The progress bar of a run (drawn on stderr after a second, on a terminal) and its Ctrl-C:

@@ -21,9 +21,7 @@ use rsts_closed_form::events::{EventName, EventSpec};
 use rsts_dynamics::State;
 use rsts_external::stream::CHUNK_ROWS;
 use rsts_external::{F64Chunk, FileFormat, RawTrajectory, RestF64, Survey, TrajectoryReader};
-use rsts_harness::events::{
-    exact_event_times, match_events, DetectedEvent, EventMatchReport,
-};
+use rsts_harness::events::{exact_event_times, match_events, DetectedEvent, EventMatchReport};
 use rsts_harness::{check_finite_report, Check, CheckMotion, CheckReport, CheckStream, Observer};
 use rsts_mcap::LogStats;
 

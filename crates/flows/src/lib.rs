@@ -22,9 +22,21 @@
 pub mod check;
 pub mod compare;
 pub mod error;
+pub mod events;
+pub mod explicit;
+pub mod identify;
 pub mod log;
+pub mod reference;
+pub mod sink;
+pub mod times;
 pub mod verdict;
 
+#[cfg(test)]
+mod agreement;
+
 pub use error::{ErrorKind, FlowError};
+/// A number of an outcome: an f64 (correctly rounded) or a decimal string of the digits asked.
+pub use rsts_closed_form::events::Number;
 pub use rsts_closed_form::{Decimal, Motion, Times};
+pub use sink::{Collect, Sink};
 pub use verdict::{Limits, Verdict};

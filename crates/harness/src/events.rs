@@ -252,10 +252,14 @@ pub fn exact_event_times(
     if specs.is_empty() || t_end <= t_start {
         return Ok(Vec::new());
     }
+    // The window of f64 data: its ends' exact binary values.
+    let end = |t: f64| {
+        rsts_closed_form::Decimal::from_f64(t).map_err(|e| HarnessError::Case(e.to_string()))
+    };
     let case = EventCase {
         motion: motion.clone(),
-        t_start,
-        t_end,
+        t_start: end(t_start)?,
+        t_end: end(t_end)?,
         digits: None,
         camera: String::new(),
     };

@@ -96,6 +96,18 @@ fn number<T: Real>(x: &T, digits: u32) -> Value {
     }
 }
 
+/// An angle in [0, 2π) for JSON: one that shows as 2π at `digits` digits (2π − ε, ε below the
+/// last digit) is 0, the same angle.
+fn angle<T: Real>(psi: &T, digits: u32) -> Value {
+    let two_pi = T::pi(psi.prec()) * psi.lit(2.0);
+    let shown = number(psi, digits);
+    if shown == number(&two_pi, digits) {
+        number(&psi.zero_like(), digits)
+    } else {
+        shown
+    }
+}
+
 /// Identify the motion of N that `state` is on, in fields `a > b > 0`, computing in `T` and
 /// reporting `digits` digits; a state whose relative distance from N exceeds `tolerance` is
 /// [`Identification::OffN`].
@@ -176,8 +188,8 @@ pub fn identify_state<T: Scalar>(
         camera: id.camera.label(),
         tori: id.tori,
         torus: id.torus,
-        phase1: number(&id.phases[0], digits),
-        phase2: number(&id.phases[1], digits),
+        phase1: angle(&id.phases[0], digits),
+        phase2: angle(&id.phases[1], digits),
         distance_from_n: id.distance.distance.to_f64(),
         relative_distance_from_n: relative,
         residual: id.residual.to_f64(),

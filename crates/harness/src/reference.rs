@@ -89,8 +89,13 @@ impl ReferenceTable {
     /// largest |t| of `times` (its phase clock carries the bits that time needs), at `digits`
     /// (checked with [`check_digits`]; `None`: f64 output).
     pub fn new(case: &Case, times: &[f64], digits: Option<u32>) -> Result<Self, HarnessError> {
-        let bits = bits_for_digits(digits.unwrap_or(30)) + REFERENCE_GUARD_BITS;
         let t_max = times.iter().fold(0.0, |m: f64, t| m.max(t.abs()));
+        Self::for_reach(case, t_max, digits)
+    }
+
+    /// [`Self::new`] for times of magnitude up to `t_max`.
+    pub fn for_reach(case: &Case, t_max: f64, digits: Option<u32>) -> Result<Self, HarnessError> {
+        let bits = bits_for_digits(digits.unwrap_or(30)) + REFERENCE_GUARD_BITS;
         let reach = rsts_closed_form::Decimal::from_f64(t_max)
             .map_err(|e| HarnessError::Case(format!("times: {e}")))?;
         let case = case.with_grid(reach, 1);
@@ -162,17 +167,40 @@ impl ReferenceTable {
         self.digits
     }
 
+    /// Bits of the reference precision (a time given to [`Self::row_at`] should carry at least
+    /// as many, plus those of its integer part).
+    pub fn bits(&self) -> u32 {
+        self.bits
+    }
+
+    /// [`Self::row_f64`] at a time that is not an f64 (`t` exact to the reference precision):
+    /// the state there rounded from MPFR, shown at `shown` (the f64 nearest `t`).
+    pub fn row_f64_at(&self, t: &Float, shown: f64) -> Result<[f64; 13], String> {
+        let r = self.row_at(t)?;
+        let mut row = [shown; 13];
+        for k in 1..10 {
+            row[k] = r[k].to_f64();
+        }
+        row[10..].copy_from_slice(&self.integrals_f64);
+        Ok(row)
+    }
+
     /// The row at `t`: t, the nine components of the state, H, K, G ([`COLUMNS`]), at the
     /// reference precision. H, K, G are the constants of N (H = h, K = r⁴m², G = (p²h + r⁴m)/2
     /// exactly, rounded once), as in f64 rows: the integrals of each row's state agree with them
     /// to the reference precision, at a tenth of a 100-digit row's cost less. A value that is not
     /// finite, or not finite in f64, is an error naming where it appeared, never a number.
     pub fn row(&self, t: f64) -> Result<Vec<Float>, String> {
-        let tf = Float::with_val(self.bits, t);
+        self.row_at(&Float::with_val(self.bits, t))
+    }
+
+    /// [`Self::row`] at the time `t` (any precision: a decimal time exact to the reference
+    /// precision; the row's t is `t`).
+    pub fn row_at(&self, t: &Float) -> Result<Vec<Float>, String> {
         // ω, α, β alone (not γ, Ω, Q′, Q″, ω′, ω″): the same values as the whole state's.
-        let b = self.analysis.motion().body_at(&tf);
+        let b = self.analysis.motion().body_at(t);
         let mut row = Vec::with_capacity(COLUMNS.len());
-        row.push(tf);
+        row.push(t.clone());
         row.extend(b.omega.into_iter().chain(b.alpha).chain(b.beta));
         row.extend(self.integrals.iter().cloned());
         if let Some(c) = row
@@ -181,7 +209,7 @@ impl ReferenceTable {
         {
             return Err(format!(
                 "the closed form is not finite at t = {}: {} = {} (outside f64's range)",
-                rsts_dynamics::short(t),
+                rsts_dynamics::short(t.to_f64()),
                 COLUMNS[c],
                 row[c].to_f64()
             ));

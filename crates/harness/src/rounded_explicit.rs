@@ -60,6 +60,18 @@ impl RoundedExplicit {
         values(&self.mp.at(&Float::with_val(self.mp.constants.a.prec(), t)))
     }
 
+    /// Bits of the MPFR closed form (a time given to [`Self::row_at`] should carry at least as
+    /// many, plus those of its integer part).
+    pub fn mp_bits(&self) -> u32 {
+        self.mp.constants.a.prec()
+    }
+
+    /// The row at the time `t` (any precision: a time that is not an f64, exact to
+    /// [`Self::mp_bits`]) rounded from MPFR.
+    pub fn row_at(&self, t: &Float) -> [f64; EXPLICIT_VALUES] {
+        values(&self.mp.at(t)).map(|x| x.to_f64())
+    }
+
     /// The row at `t` rounded from MPFR (the slow path, and what [`Self::row`] equals).
     pub fn row_mpfr(&self, t: f64) -> [f64; EXPLICIT_VALUES] {
         self.mp_values(t).map(|x| x.to_f64())

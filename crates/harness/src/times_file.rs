@@ -9,6 +9,7 @@
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
+use rsts_dynamics::number::Decimal;
 use rsts_io::cut;
 
 use crate::MAX_SAMPLES;
@@ -21,13 +22,39 @@ pub const MAX_TIME_CHARS: usize = 400;
 /// The times of the file `path` (not checked for order: [`crate::reference::check_times`]).
 /// Errors name the line (`line 3: 'x' is not a number`), not the path.
 pub fn read_times_file(path: &Path) -> Result<Vec<f64>, String> {
-    let input = rsts_io::open_bounded(path, MAX_TIMES_FILE_BYTES, "a times file")
-        .map_err(|e| format!("cannot read: {e}"))?;
-    read_times(input)
+    read_times(open(path)?)
+}
+
+/// The times of the file `path` as the decimals written ([`Decimal::parse`]), bounded and read
+/// as [`read_times_file`] reads them.
+pub fn read_decimal_times_file(path: &Path) -> Result<Vec<Decimal>, String> {
+    read_times_with(open(path)?, Decimal::parse)
+}
+
+fn open(path: &Path) -> Result<rsts_io::Bounded<std::fs::File>, String> {
+    rsts_io::open_bounded(path, MAX_TIMES_FILE_BYTES, "a times file")
+        .map_err(|e| format!("cannot read: {e}"))
 }
 
 /// [`read_times_file`] from any input.
 pub fn read_times(input: impl Read) -> Result<Vec<f64>, String> {
+    read_times_with(input, |text| {
+        let t: f64 = text
+            .parse()
+            .map_err(|_| format!("'{}' is not a number", cut(text)))?;
+        if t.is_finite() {
+            Ok(t)
+        } else {
+            Err(format!("must be a finite number, got {}", cut(text)))
+        }
+    })
+}
+
+/// The times of `input`, each word read by `parse` (its error is given after the line).
+pub fn read_times_with<T, E: std::fmt::Display>(
+    input: impl Read,
+    parse: impl Fn(&str) -> Result<T, E>,
+) -> Result<Vec<T>, String> {
     let mut input = BufReader::with_capacity(1 << 16, input);
     let mut times = Vec::new();
     let mut word: Vec<u8> = Vec::new();
@@ -45,16 +72,7 @@ pub fn read_times(input: impl Read) -> Result<Vec<f64>, String> {
                 "line {line}: a value of more than {MAX_TIME_CHARS} characters ('{head}…'), not a time"
             ));
         }
-        let t: f64 = text
-            .trim()
-            .parse()
-            .map_err(|_| format!("line {line}: '{}' is not a number", cut(&text)))?;
-        if !t.is_finite() {
-            return Err(format!(
-                "line {line}: must be a finite number, got {}",
-                cut(&text)
-            ));
-        }
+        let t = parse(text.trim()).map_err(|e| format!("line {line}: {e}"))?;
         if times.len() >= MAX_SAMPLES {
             return Err(format!(
                 "line {line}: more than {MAX_SAMPLES} times, the most a reference may have"

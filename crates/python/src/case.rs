@@ -3,13 +3,15 @@
 
 use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyInt, PyList, PyString};
+use pyo3::types::{PyBool, PyInt, PyList, PyString, PyTuple};
 use rsts_closed_form::{Decimal, Motion};
 
-use rsts_harness::reference::{check_digits, check_times, ReferenceTable};
+use rsts_flows::reference::{reference, ReferenceHead, ReferenceRequest, ReferenceRow};
+use rsts_flows::{Sink, Times};
+use rsts_harness::reference::check_digits;
 
 use crate::arrays;
-use crate::{harness_error, value_error, Interrupts};
+use crate::{flow_error, harness_error, value_error, Interrupts};
 
 /// A motion on the invariant manifold N: fields a > b > 0, the point (m, h) of N off Σ, the
 /// Liouville torus (0-based) and the angles (psi1, psi2) on it at t = 0.
@@ -55,6 +57,47 @@ pub(crate) fn number(name: &'static str, x: &Bound<'_, PyAny>) -> PyResult<Decim
         )));
     };
     parsed.map_err(|e| value_error(&[name], e))
+}
+
+/// A list or tuple holding a `str`: each element a number as [`number`] reads it (decimals as
+/// written); `None` for anything else (read it as an array of floats).
+pub(crate) fn numbers(name: &'static str, x: &Bound<'_, PyAny>) -> PyResult<Option<Vec<Decimal>>> {
+    let items: Vec<Bound<'_, PyAny>> = if let Ok(l) = x.cast::<PyList>() {
+        l.iter().collect()
+    } else if let Ok(t) = x.cast::<PyTuple>() {
+        t.iter().collect()
+    } else {
+        return Ok(None);
+    };
+    if !items.iter().any(|i| i.is_instance_of::<PyString>()) {
+        return Ok(None);
+    }
+    items
+        .iter()
+        .map(|i| number(name, i))
+        .collect::<PyResult<_>>()
+        .map(Some)
+}
+
+/// `digits` of a function: `None`, or a whole number in `range` (ValueError naming it).
+pub(crate) fn digits_arg(
+    d: Option<i64>,
+    range: std::ops::RangeInclusive<u32>,
+) -> PyResult<Option<u32>> {
+    match d {
+        None => Ok(None),
+        Some(d) => match u32::try_from(d) {
+            Ok(x) if range.contains(&x) => Ok(Some(x)),
+            _ => Err(value_error(
+                &["digits"],
+                format!(
+                    "must be between {} and {}, got {d}",
+                    range.start(),
+                    range.end()
+                ),
+            )),
+        },
+    }
 }
 
 /// A float time (`t_end`): its exact binary value, or ValueError naming it.
@@ -186,12 +229,15 @@ impl Case {
     /// The exact motion at `times` (1-D, strictly increasing, any spacing): a float64 array of
     /// shape (len(times), 9), the rows (omega, alpha, beta) in the body frame, equal bit for bit
     /// to the columns omega1..beta3 of `rsts reference` at the same times (the closed form at
-    /// 30 digits + 64 bits, rounded once to f64).
+    /// 30 digits + 64 bits, rounded once to f64). Times are numbers as in `Case`: floats (a numpy
+    /// array) their exact binary values; a list holding strings the decimals they hold (as
+    /// `rsts reference --times`: the state at the exact time 0.1, rounded).
     ///
     /// With `digits` (18 to 10000): a list of len(times) lists of 9 decimal strings, each value
     /// carrying that many digits (as `rsts reference --digits D`).
     ///
-    /// The GIL is released while the rows are computed; Ctrl-C raises KeyboardInterrupt.
+    /// The GIL is released while the rows are computed (on every core); Ctrl-C raises
+    /// KeyboardInterrupt.
     #[pyo3(signature = (times, digits = None))]
     fn reference<'py>(
         &self,
@@ -199,54 +245,80 @@ impl Case {
         times: &Bound<'py, PyAny>,
         digits: Option<i64>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let times = arrays::vector(times, "times")?;
-        check_times(&times).map_err(|e| value_error(&["times"], e))?;
-        let digits = check_digits(digits).map_err(|e| value_error(&["digits"], e))?;
-        let case = self.on_grid(Decimal::from_integer(0), 1);
-        let rows = py.detach(move || -> Result<Rows, RowsError> {
-            let table = ReferenceTable::new(&case, &times, digits).map_err(RowsError::Case)?;
-            let mut interrupts = Interrupts::new();
-            let mut text = Vec::new();
-            let mut values = Vec::new();
-            for &t in &times {
-                if interrupts.stopped() {
-                    return Err(RowsError::Interrupted(interrupts.take()));
-                }
-                let row = table.row(t).map_err(RowsError::Row)?;
-                let state = &row[1..10];
-                if digits.is_some() {
-                    text.push(state.iter().map(|x| table.text(x)).collect());
-                } else {
-                    values.extend(state.iter().map(|x| x.to_f64()));
-                }
-            }
-            Ok(if digits.is_some() {
-                Rows::Text(text)
-            } else {
-                Rows::Values(values)
-            })
+        let times = match numbers("times", times)? {
+            Some(d) => Times::Decimals(d),
+            None => Times::Binary(arrays::vector(times, "times")?),
+        };
+        let request = ReferenceRequest {
+            motion: self.motion.clone(),
+            times,
+            digits: check_digits(digits).map_err(|e| value_error(&["digits"], e))?,
+            jobs: None,
+        };
+        let rows = py.detach(move || {
+            let mut sink = Rows {
+                interrupts: Interrupts::new(),
+                text: Vec::new(),
+                values: Vec::new(),
+            };
+            // The state's nine values of each row (not t, H, K, G).
+            let state = |row: ReferenceRow| match row {
+                ReferenceRow::F64(r) => Row::F64(r[1..10].try_into().expect("nine values")),
+                ReferenceRow::Decimal(r) => Row::Text(r[1..10].to_vec()),
+            };
+            reference(&request, state, &mut sink).map(|_| sink)
         });
         match rows {
-            Err(RowsError::Case(e)) => Err(harness_error(e)),
-            Err(RowsError::Row(e)) => Err(PyRuntimeError::new_err(e)),
-            Err(RowsError::Interrupted(e)) => {
-                Err(e.unwrap_or_else(|| PyRuntimeError::new_err("interrupted")))
-            }
-            Ok(Rows::Text(text)) => Ok(PyList::new(py, text)?.into_any()),
-            Ok(Rows::Values(values)) => arrays::matrix(py, values, 9),
+            Err(RowsError::Flow(e)) => Err(flow_error(e)),
+            Err(RowsError::Interrupted(e)) => Err(e),
+            Ok(rows) if digits.is_some() => Ok(PyList::new(py, rows.text)?.into_any()),
+            Ok(rows) => arrays::matrix(py, rows.values, 9),
         }
     }
 }
 
-/// The rows of a reference: decimal strings (with digits) or f64 values, row-major.
-enum Rows {
-    Text(Vec<Vec<String>>),
-    Values(Vec<f64>),
+/// A row of a reference as kept: the state's nine values.
+enum Row {
+    F64([f64; 9]),
+    Text(Vec<String>),
+}
+
+/// The rows of a reference (decimal strings with digits, else f64 values row-major), kept as
+/// they come; Ctrl-C stops them.
+struct Rows {
+    interrupts: Interrupts,
+    text: Vec<Vec<String>>,
+    values: Vec<f64>,
 }
 
 /// Why the rows of a reference could not be made.
 enum RowsError {
-    Case(rsts_harness::HarnessError),
-    Row(String),
-    Interrupted(Option<PyErr>),
+    Flow(rsts_flows::FlowError),
+    Interrupted(PyErr),
+}
+
+impl From<rsts_flows::FlowError> for RowsError {
+    fn from(e: rsts_flows::FlowError) -> Self {
+        RowsError::Flow(e)
+    }
+}
+
+impl Sink<ReferenceHead, Row> for Rows {
+    type Error = RowsError;
+    fn head(&mut self, _: &ReferenceHead) -> Result<(), RowsError> {
+        Ok(())
+    }
+    fn row(&mut self, row: Row) -> Result<(), RowsError> {
+        if self.interrupts.stopped() {
+            let e = self.interrupts.take();
+            return Err(RowsError::Interrupted(
+                e.unwrap_or_else(|| PyRuntimeError::new_err("interrupted")),
+            ));
+        }
+        match row {
+            Row::F64(v) => self.values.extend(v),
+            Row::Text(t) => self.text.push(t),
+        }
+        Ok(())
+    }
 }

@@ -1,44 +1,74 @@
-//! `rsts.identify`: which motion of N a state is on (`rsts identify --format json`).
+//! `rsts.identify`: which motion of N a state is on (`rsts identify --format json`, the same
+//! flow, [`rsts_flows::identify`]).
 
 use pyo3::prelude::*;
 
-use rsts_dynamics::State;
-use rsts_harness::identify::{identify_state, Identification};
+use rsts_flows::identify::{identify as identify_flow, IdentifyRequest};
 
-use crate::{arrays, report_dict, value_error};
+use crate::case::{digits_arg, number, numbers};
+use crate::{arrays, flow_error, report_dict};
 
 /// Which motion of N the state (omega, alpha, beta) is on, in the fields a > b > 0: a dict with
-/// the keys of `rsts identify --format json` — on_N, m, h, camera, tori, torus, phase1, phase2
-/// (the angles at which `Case(a, b, m, h, torus, phase1, phase2)` starts at the state),
+/// the keys of `rsts identify --format json` — on_N, a, b, m, h, camera, tori, torus, phase1,
+/// phase2 (the angles at which `Case(a, b, m, h, torus, phase1, phase2)` starts at the state),
 /// distance_from_N, relative_distance_from_N, residual, normal, digits.
+///
+/// Numbers as in `Case`: the state's nine components as floats (their exact binary values) or
+/// as decimal strings, a and b likewise. With `digits` (16 to 100000) the computation carries
+/// that many digits and m, h, a, b and the phases are decimal strings; a state written by
+/// `explicit` to D digits gives back its decimals to about D digits.
 ///
 /// A state whose relative distance from N exceeds `tolerance` gives
 /// {"on_N": False, "distance_from_N": ..., "relative_distance_from_N": ..., "tolerance": ...}
 /// (the CLI prints the same and exits with 1). Bad input (9 finite numbers, |alpha| = |beta| = 1,
 /// alpha.beta = 0 within 1e-9, a > b > 0) raises ValueError.
 #[pyfunction]
-#[pyo3(signature = (state, a = 1.0, b = 0.5, tolerance = 1e-9))]
+#[pyo3(signature = (state, a = None, b = None, tolerance = 1e-9, digits = None))]
 pub fn identify<'py>(
     py: Python<'py>,
     state: &Bound<'py, PyAny>,
-    a: f64,
-    b: f64,
+    a: Option<&Bound<'py, PyAny>>,
+    b: Option<&Bound<'py, PyAny>>,
     tolerance: f64,
+    digits: Option<i64>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let x = arrays::state(state, "state")?;
-    let s = State::from_slice(&x);
-    let result = py.detach(move || identify_state(&a, &b, &s, tolerance, 17));
-    match result {
-        Err(e) => {
+    let state = match numbers("state", state)? {
+        Some(x) => x,
+        None => arrays::state(state, "state")?
+            .iter()
+            .map(|&x| crate::case::time("state", x))
+            .collect::<PyResult<Vec<_>>>()?,
+    };
+    let state: [rsts_flows::Decimal; 9] = state.try_into().map_err(|v: Vec<_>| {
+        crate::value_error(
+            &["state"],
+            format!("expected 9 numbers (omega, alpha, beta), got {}", v.len()),
+        )
+    })?;
+    let field = |name, x: Option<&Bound<'py, PyAny>>, default: &str| match x {
+        Some(x) => number(name, x),
+        None => Ok(rsts_flows::Decimal::parse(default).expect("a default")),
+    };
+    let request = IdentifyRequest {
+        a: field("a", a, "1")?,
+        b: field("b", b, "0.5")?,
+        state,
+        tolerance,
+        digits: digits_arg(digits, rsts_flows::identify::DIGITS)?,
+    };
+    let outcome = py
+        .detach(move || identify_flow(&request))
+        .map_err(|e| {
             // The state's components are one argument here.
-            let names: Vec<&str> = if e.parameters == ["omega", "alpha", "beta"] {
-                vec!["state"]
-            } else {
-                e.parameters.clone()
-            };
-            Err(value_error(&names, e.message))
-        }
-        Ok(Identification::OffN(off)) => report_dict(py, &off),
-        Ok(Identification::OnN(doc, _)) => report_dict(py, &doc),
-    }
+            match e {
+                rsts_flows::FlowError::Input { names, message }
+                    if names == ["omega", "alpha", "beta"] =>
+                {
+                    rsts_flows::FlowError::input(&["state"], message)
+                }
+                e => e,
+            }
+        })
+        .map_err(flow_error)?;
+    report_dict(py, &outcome)
 }

@@ -52,6 +52,26 @@ pub(crate) fn harness_error(e: rsts_harness::HarnessError) -> PyErr {
     }
 }
 
+/// An error of a flow as the CLI words it, naming the Python arguments (`t_end` where the CLI
+/// says `--t-end`): `ValueError` for bad input, `RuntimeError` for a failed run,
+/// `KeyboardInterrupt` for an interrupted one.
+pub(crate) fn flow_error(e: rsts_flows::FlowError) -> PyErr {
+    use rsts_flows::{ErrorKind, FlowError};
+    match e {
+        FlowError::Harness(h) => harness_error(h),
+        e => {
+            let names: Vec<String> = e.names().iter().map(|n| n.replace('-', "_")).collect();
+            match e.kind() {
+                ErrorKind::BadInput => value_error(&names, e),
+                ErrorKind::Interrupted => {
+                    pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string())
+                }
+                ErrorKind::Failed => PyRuntimeError::new_err(e.to_string()),
+            }
+        }
+    }
+}
+
 /// A report as a dict: its serde serialisation, the JSON text the CLI prints with
 /// `--format json` (field order kept, a NaN as null), read by Python's `json.loads`.
 pub(crate) fn report_dict<'py>(

@@ -237,7 +237,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         return merge::run(m, out);
     }
     let case = args.case();
-    let specs = crate::watch::parse_specs(&args.event)?;
+    let specs = crate::args::event_specs(&args.event)?;
     if let Some(e) = args.max_event_error {
         if e < 0.0 {
             bail!("--max-event-error: must be non-negative, got {e}");

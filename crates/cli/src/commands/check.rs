@@ -20,7 +20,7 @@ use rsts_harness::CheckMotion;
 use crate::args::{decimal, finite_f64, ExactFieldArgs};
 use crate::output::{self, Format};
 use crate::report_table::write_table;
-use crate::watch::{flow_error, log_note, parse_specs, Failed, Interrupted, Watch};
+use crate::watch::{flow_error, log_note, Failed, Interrupted, Watch};
 
 /// Shown at the end of `rsts check --help`.
 pub const EXAMPLES: &str = "\
@@ -166,7 +166,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         source: args.source()?,
         digits: args.digits,
         events: args.events.clone().map(DetectedEvents::File),
-        expect: parse_specs(&args.event)?,
+        expect: crate::args::event_specs(&args.event)?,
         mcap: args.mcap.clone().map(Mcap::at),
         jobs: args.jobs.jobs,
         limits: Limits {

@@ -17,7 +17,7 @@ use crate::args::{count, decimal, finite_f64, CaseArgs, MethodArgs};
 use crate::external::{exec_integrator, TimeoutArgs};
 use crate::output::{self, Format};
 use crate::report_table::write_table;
-use crate::watch::{flow_error, log_note, parse_specs, Failed, Interrupted, Watch};
+use crate::watch::{flow_error, log_note, Failed, Interrupted, Watch};
 
 /// Shown at the end of `rsts compare --help`.
 pub const EXAMPLES: &str = "\
@@ -92,7 +92,7 @@ pub struct Args {
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     // Everything is checked before any output exists: the options here, the rest by the flow.
-    let events = parse_specs(&args.event)?;
+    let events = crate::args::event_specs(&args.event)?;
     let mut config = args.method.config()?;
     let mut external = None;
     if let Some(command) = &args.exec {

@@ -1,21 +1,19 @@
 //! `rsts identify`: which motion of N a state (ω, α, β) is on — (m, h), camera, torus and the
 //! angles (ψ₁, ψ₂) on the torus, the inverse of `rsts explicit` — with the distance from N and
-//! the residual |state − closed form(found)|, in f64 or at any number of digits.
+//! the residual |state − closed form(found)|, in f64 or at any number of digits. Parsing and
+//! formatting only: the flow is `rsts_flows::identify`.
 
 use std::io::Write;
 
-use anyhow::{bail, Context};
+use anyhow::bail;
 use clap::{Args as ClapArgs, ValueEnum};
-use rug::Float;
+use serde_json::Value;
 
 use rsts_closed_form::diagram::tori_text;
-use rsts_closed_form::scalar::Scalar;
-use rsts_dynamics::scalar::{bits_for_digits, F64_BITS};
-use rsts_dynamics::{Real, State};
-use rsts_harness::identify::{identify_state, Identification};
+use rsts_flows::identify::{identify, IdentifyOutcome, IdentifyRequest};
+use rsts_flows::Decimal;
 
-use crate::args::ExactFieldArgs;
-use crate::commands::explicit::MAX_DIGITS;
+use crate::args::{flow_error, ExactFieldArgs};
 use crate::output;
 
 /// Shown at the end of `rsts identify --help`.
@@ -40,7 +38,8 @@ The phases are the angles (psi1, psi2) on the torus at which `rsts explicit --m 
 --phase1 PSI1 --phase2 PSI2` starts at the state. The distance from N is |X_Phi|/gain
 (Phi = r^4 K - (2G - p^2 H)^2, in the units of the state; see docs/stability.md); the state is on
 N when distance/|state| <= --tolerance. m and h are those of the nearest point of N (the values of
-H and (2G - p^2 H)/r^4 for a state on N).";
+H and (2G - p^2 H)/r^4 for a state on N). The state's numbers are the decimals as written; the
+computation carries the digits asked (f64: 17) and 64 guard bits.";
 
 /// Output formats of `rsts identify`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -87,18 +86,8 @@ impl std::fmt::Display for NotOnN {
 }
 impl std::error::Error for NotOnN {}
 
-/// Read a decimal at `bits`, naming the option on failure.
-fn read<T: Real>(name: &str, s: &str, bits: u32) -> anyhow::Result<T> {
-    let x = T::parse(s, bits)
-        .with_context(|| format!("--{name}: '{}' is not a number", rsts_io::cut(s)))?;
-    if !x.is_finite() {
-        bail!("--{name}: must be a finite number, got {s}");
-    }
-    Ok(x)
-}
-
 /// Three comma-separated decimals.
-fn read3<T: Real>(name: &str, s: &str, bits: u32) -> anyhow::Result<[T; 3]> {
+fn read3(name: &str, s: &str) -> anyhow::Result<[Decimal; 3]> {
     let parts: Vec<&str> = s.split(',').collect();
     if parts.len() != 3 {
         bail!(
@@ -106,37 +95,33 @@ fn read3<T: Real>(name: &str, s: &str, bits: u32) -> anyhow::Result<[T; 3]> {
             parts.len()
         );
     }
-    let [x, y, z] = [parts[0], parts[1], parts[2]].map(|p| read::<T>(name, p.trim(), bits));
-    Ok([x?, y?, z?])
+    let read = |p: &str| Decimal::parse(p).map_err(|e| anyhow::anyhow!("--{name}: {e}"));
+    Ok([read(parts[0])?, read(parts[1])?, read(parts[2])?])
 }
 
-pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
-    match args.digits {
-        None => run_in::<f64>(&args, F64_BITS, 17, out),
-        Some(d) if (16..=MAX_DIGITS).contains(&d) => {
-            run_in::<Float>(&args, bits_for_digits(d), d, out)
-        }
-        Some(d) => bail!("--digits: must be between 16 and {MAX_DIGITS}, got {d}"),
+/// A number of the document as the table shows it: an f64 shortest, a decimal as written.
+fn text(x: &Value) -> String {
+    match x {
+        Value::String(s) => s.clone(),
+        other => other.as_f64().map_or(other.to_string(), |v| v.to_string()),
     }
 }
 
-fn run_in<T: Scalar>(
-    args: &Args,
-    bits: u32,
-    digits: u32,
-    out: &mut dyn Write,
-) -> anyhow::Result<()> {
-    let a: T = read("a", args.fields.a.as_str(), bits)?;
-    let b: T = read("b", args.fields.b.as_str(), bits)?;
-    let state = State {
-        omega: read3("omega", &args.omega, bits)?,
-        alpha: read3("alpha", &args.alpha, bits)?,
-        beta: read3("beta", &args.beta, bits)?,
+pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
+    let [w, a, b] = [
+        read3("omega", &args.omega)?,
+        read3("alpha", &args.alpha)?,
+        read3("beta", &args.beta)?,
+    ];
+    let request = IdentifyRequest {
+        a: args.fields.a.clone(),
+        b: args.fields.b.clone(),
+        state: [w, a, b].concat().try_into().expect("nine numbers"),
+        tolerance: args.tolerance,
+        digits: args.digits,
     };
-    let (doc, id) = match identify_state(&a, &b, &state, args.tolerance, digits) {
-        Err(e) if e.parameters.is_empty() => bail!("{}", e.message),
-        Err(e) => bail!("--{}: {}", e.parameters.join("/--"), e.message),
-        Ok(Identification::OffN(off)) => {
+    let doc = match identify(&request).map_err(flow_error)? {
+        IdentifyOutcome::OffN(off) => {
             match args.format {
                 IdentifyFormat::Json => output::write_json(out, &off)?,
                 IdentifyFormat::Table => output::write_key_values(
@@ -154,33 +139,27 @@ fn run_in<T: Scalar>(
             }
             return Err(NotOnN(off.message()).into());
         }
-        Ok(Identification::OnN(doc, id)) => (doc, id),
-    };
-    let relative = doc.relative_distance_from_n;
-    // Shortest f64 text in f64, all digits otherwise.
-    let text = |x: &T| {
-        if digits <= 17 {
-            x.to_f64().to_string()
-        } else {
-            x.to_decimal(digits)
-        }
+        IdentifyOutcome::OnN(doc) => doc,
     };
     match args.format {
         IdentifyFormat::Json => output::write_json(out, &doc)?,
         IdentifyFormat::Table => output::write_key_values(
             out,
             &[
-                ("camera", format!("{} ({})", doc.camera, tori_text(id.tori))),
-                ("torus", id.torus.to_string()),
-                ("m", text(&id.m)),
-                ("h", text(&id.h)),
-                ("phase1", text(&id.phases[0])),
-                ("phase2", text(&id.phases[1])),
+                (
+                    "camera",
+                    format!("{} ({})", doc.camera, tori_text(doc.tori)),
+                ),
+                ("torus", doc.torus.to_string()),
+                ("m", text(&doc.m)),
+                ("h", text(&doc.h)),
+                ("phase1", text(&doc.phase1)),
+                ("phase2", text(&doc.phase2)),
                 (
                     "distance from N",
                     format!(
-                        "{:.3e} (relative {relative:.3e}, tolerance {:e})",
-                        doc.distance_from_n, args.tolerance
+                        "{:.3e} (relative {:.3e}, tolerance {:e})",
+                        doc.distance_from_n, doc.relative_distance_from_n, args.tolerance
                     ),
                 ),
                 ("residual", format!("{:.3e}", doc.residual)),
@@ -191,7 +170,7 @@ fn run_in<T: Scalar>(
                         doc.normal.kind, doc.normal.lambda2
                     ),
                 ),
-                ("digits", digits.to_string()),
+                ("digits", doc.digits.to_string()),
             ],
         )?,
     }

@@ -7,6 +7,7 @@ use serde::Serialize;
 use super::{working_bits, Crossing, EventSearch, EventSpec, ExactEvent};
 use crate::error::ClosedFormError;
 use crate::motion::{ExplicitMotion, Motion};
+use rsts_dynamics::number::Decimal;
 use rsts_dynamics::Real;
 
 /// A number of the report: f64 (correctly rounded from the working precision) or a decimal
@@ -19,7 +20,8 @@ pub enum Number {
 }
 
 impl Number {
-    fn of(x: &Float, digits: Option<u32>) -> Self {
+    /// `x` correctly rounded to f64 (`digits` `None`) or written to `digits` significant digits.
+    pub fn of(x: &Float, digits: Option<u32>) -> Self {
         match digits {
             None => Number::F64(x.to_f64()),
             Some(d) => Number::Decimal(x.to_decimal(d)),
@@ -34,13 +36,14 @@ impl Number {
     }
 }
 
-/// The motion and the window.
+/// The motion and the window (its ends decimals as written, exact at every precision; in the
+/// report their nearest f64).
 #[derive(Clone, Debug, Serialize)]
 pub struct EventCase {
     #[serde(flatten)]
     pub motion: Motion,
-    pub t_start: f64,
-    pub t_end: f64,
+    pub t_start: Decimal,
+    pub t_end: Decimal,
     /// Decimal digits of the times and states (`None`: f64).
     pub digits: Option<u32>,
     /// The camera of (m, h) (filled in by [`events_report`]).
@@ -72,7 +75,9 @@ pub struct EventsReport {
 }
 
 impl EventRecord {
-    fn new(e: &ExactEvent, digits: Option<u32>) -> Self {
+    /// The record of an exact event: its time and state rounded to f64 (`digits` `None`) or
+    /// written to `digits` digits.
+    pub fn new(e: &ExactEvent, digits: Option<u32>) -> Self {
         let v = |o: usize| std::array::from_fn(|i| Number::of(&e.state[o + i], digits));
         EventRecord {
             name: e.name.as_str().to_string(),
@@ -126,11 +131,11 @@ impl EventsRun {
     /// The motion of `case` at its digits and the search of `specs` in its window, checked.
     pub fn new(mut case: EventCase, specs: &[EventSpec]) -> Result<Self, ClosedFormError> {
         let bits = working_bits(case.digits);
-        let f = |x: f64| Float::with_val(bits, x);
-        let t_max = case.t_start.abs().max(case.t_end.abs());
+        let t_max = case.t_start.to_f64().abs().max(case.t_end.to_f64().abs());
         let motion = case.motion.explicit::<Float>(bits, t_max)?;
         case.camera = motion.camera.label().to_string();
-        let search = EventSearch::new(&motion, specs, &f(case.t_start), &f(case.t_end))?;
+        let (t0, t1) = (case.t_start.to_float(bits), case.t_end.to_float(bits));
+        let search = EventSearch::new(&motion, specs, &t0, &t1)?;
         Ok(Self {
             case,
             motion,
