@@ -264,13 +264,7 @@ impl MethodArgs {
 /// An error of the closed form or of a comparison, prefixed with the options it concerns
 /// (`--m/--h: (m, h) lies on Σ …`, `--t-end/--rtol/--atol: … steps …`).
 pub fn case_error(e: impl Into<rsts_harness::HarnessError>) -> anyhow::Error {
-    let e: rsts_harness::HarnessError = e.into();
-    let names = e.parameters();
-    if names.is_empty() {
-        anyhow::anyhow!("{e}")
-    } else {
-        anyhow::anyhow!("--{}: {e}", names.join("/--"))
-    }
+    crate::failure::flow_error(rsts_flows::FlowError::Harness(e.into()))
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@
 mod args;
 mod commands;
 mod external;
+mod failure;
 mod interrupt;
 mod invocation;
 mod jobs;
@@ -175,7 +176,7 @@ fn main() -> ExitCode {
                 ExitCode::from(EXIT_RECOVERED)
             } else if e.downcast_ref::<compare::Interrupted>().is_some() {
                 ExitCode::from(interrupt::exit_code())
-            } else if e.downcast_ref::<validate::Failed>().is_some()
+            } else if e.downcast_ref::<failure::Failed>().is_some()
                 || e.downcast_ref::<identify::NotOnN>().is_some()
             {
                 ExitCode::from(EXIT_FAILED)

@@ -95,7 +95,10 @@ pub fn compare_integrator(
     observer: &mut dyn Observer,
 ) -> Result<Report, HarnessError> {
     if options.pieces == 0 {
-        return Err(HarnessError::Case("pieces must be at least 1".into()));
+        return Err(HarnessError::setting(
+            &["pieces"],
+            "pieces must be at least 1",
+        ));
     }
     let bits = reference_bits_for(integrator.working_bits());
     let f = |x: f64| Float::with_val(bits, x);
@@ -156,7 +159,7 @@ pub fn compare_integrator(
         analysis.rename(integrator.name());
         analysis.set_digits(integrator.digits());
         if traj.states.len() != local.samples || traj.times.len() != local.samples {
-            return Err(HarnessError::Case(format!(
+            return Err(HarnessError::Integrator(format!(
                 "{} returned {} states for {} sample times",
                 integrator.name(),
                 traj.states.len(),

@@ -92,7 +92,7 @@ impl ReferenceTable {
         let bits = bits_for_digits(digits.unwrap_or(30)) + REFERENCE_GUARD_BITS;
         let t_max = times.iter().fold(0.0, |m: f64, t| m.max(t.abs()));
         let reach = rsts_closed_form::Decimal::from_f64(t_max)
-            .map_err(|e| HarnessError::Case(format!("times: {e}")))?;
+            .map_err(|e| HarnessError::Data(format!("times: {e}")))?;
         let case = case.with_grid(reach, 1);
         case.validate()?;
         let info = RunInfo {

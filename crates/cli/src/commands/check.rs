@@ -19,7 +19,7 @@ use crate::args::{case_error, decimal, finite_f64, ExactFieldArgs};
 use crate::commands::compare::{
     check_finite_report, open_log, stop_on_ctrl_c, write_table, CliObserver, Interrupted,
 };
-use crate::commands::validate::Failed;
+use crate::failure::Failed;
 use crate::output::{self, Format};
 
 /// Shown at the end of `rsts check --help`.

@@ -460,7 +460,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         .and_then(|(ev, limit)| ev.counts.failure(limit))
     {
         out.flush()?;
-        return Err(crate::commands::validate::Failed(format!("{}: {why}", report.method)).into());
+        return Err(crate::failure::Failed(format!("{}: {why}", report.method)).into());
     }
     Ok(())
 }
