@@ -264,13 +264,7 @@ impl MethodArgs {
 /// An error of the closed form or of a comparison, prefixed with the options it concerns
 /// (`--m/--h: (m, h) lies on Σ …`, `--t-end/--rtol/--atol: … steps …`).
 pub fn case_error(e: impl Into<rsts_harness::HarnessError>) -> anyhow::Error {
-    let e: rsts_harness::HarnessError = e.into();
-    let names = e.parameters();
-    if names.is_empty() {
-        anyhow::anyhow!("{e}")
-    } else {
-        anyhow::anyhow!("--{}: {e}", names.join("/--"))
-    }
+    crate::failure::flow_error(rsts_flows::FlowError::Harness(e.into()))
 }
 
 /// The specs of `--event` options (`NAME[:up|down|both]`, each function once), naming the
@@ -279,20 +273,7 @@ pub fn event_specs(raw: &[String]) -> anyhow::Result<Vec<rsts_closed_form::event
     rsts_flows::events::event_specs(raw).map_err(|e| anyhow::anyhow!("--event {e}"))
 }
 
-/// An error of a flow, prefixed with the options it concerns (`--t-end: …`, `--m/--h: …`).
-pub fn flow_error(e: rsts_flows::FlowError) -> anyhow::Error {
-    match e {
-        rsts_flows::FlowError::Harness(h) => case_error(h),
-        e => {
-            let names = e.names();
-            if names.is_empty() {
-                anyhow::anyhow!("{e}")
-            } else {
-                anyhow::anyhow!("--{}: {e}", names.join("/--"))
-            }
-        }
-    }
-}
+pub use crate::failure::flow_error;
 
 #[cfg(test)]
 mod tests {

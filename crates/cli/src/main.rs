@@ -8,6 +8,7 @@
 mod args;
 mod commands;
 mod external;
+mod failure;
 mod interrupt;
 mod invocation;
 mod jobs;
@@ -188,8 +189,7 @@ fn main() -> ExitCode {
                 ExitCode::from(EXIT_RECOVERED)
             } else if e.downcast_ref::<watch::Interrupted>().is_some() {
                 ExitCode::from(interrupt::exit_code())
-            } else if e.downcast_ref::<validate::Failed>().is_some()
-                || e.downcast_ref::<watch::Failed>().is_some()
+            } else if e.downcast_ref::<failure::Failed>().is_some()
                 || e.downcast_ref::<identify::NotOnN>().is_some()
                 || e.downcast_ref::<history::Regressed>().is_some()
             {

@@ -8,47 +8,11 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rsts_flows::FlowError;
 use rsts_harness::{Observer, SampleRecord};
 
 use crate::output;
 
-/// A run missed the limits asked (`--max-error`, `--max-event-error`): exit 1.
-#[derive(Debug)]
-pub struct Failed(pub String);
-
-impl std::fmt::Display for Failed {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-impl std::error::Error for Failed {}
-
-/// The run was stopped by Ctrl-C (the report and the log cover what was done; exit 130).
-#[derive(Debug)]
-pub struct Interrupted(pub String);
-
-impl std::fmt::Display for Interrupted {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-impl std::error::Error for Interrupted {}
-
-/// A flow's error as the CLI says it: bad input prefixed with the options it concerns
-/// (`--m/--h: …`), an output with `output` (`--mcap PATH: …`), a stopped run as
-/// [`Interrupted`].
-pub fn flow_error(e: FlowError, output: &str) -> anyhow::Error {
-    match e {
-        FlowError::Interrupted(_) => Interrupted(e.to_string()).into(),
-        FlowError::Harness(h) => crate::args::case_error(h),
-        FlowError::Output(message) => anyhow::anyhow!("{output} {message}"),
-        FlowError::Input { names, message } if !names.is_empty() => {
-            anyhow::anyhow!("--{}: {message}", names.join("/--"))
-        }
-        other => anyhow::anyhow!("{other}"),
-    }
-}
+pub use crate::failure::{flow_error_at as flow_error, Failed, Interrupted};
 
 /// The progress bar of a run (drawn on stderr after a second, on a terminal) and its Ctrl-C:
 /// the first one sets the flag the flow polls (it stops after the current piece or sample and

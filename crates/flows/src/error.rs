@@ -59,9 +59,7 @@ impl FlowError {
     pub fn kind(&self) -> ErrorKind {
         match self {
             FlowError::Input { .. } => ErrorKind::BadInput,
-            FlowError::Harness(HarnessError::Integrator(_) | HarnessError::Observer(_)) => {
-                ErrorKind::Failed
-            }
+            FlowError::Harness(e) if e.is_failure() => ErrorKind::Failed,
             FlowError::Harness(_) => ErrorKind::BadInput,
             FlowError::Interrupted(_) => ErrorKind::Interrupted,
             FlowError::Output(_) => ErrorKind::Failed,
@@ -72,5 +70,60 @@ impl FlowError {
 impl From<rsts_closed_form::InputError> for FlowError {
     fn from(e: rsts_closed_form::InputError) -> Self {
         FlowError::input(&[e.name], e.error.to_string())
+    }
+}
+
+impl From<rsts_closed_form::ClosedFormError> for FlowError {
+    fn from(e: rsts_closed_form::ClosedFormError) -> Self {
+        FlowError::Harness(e.into())
+    }
+}
+
+impl From<rsts_dynamics::DynamicsError> for FlowError {
+    fn from(e: rsts_dynamics::DynamicsError) -> Self {
+        FlowError::Harness(e.into())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rsts_closed_form::ClosedFormError;
+    use rsts_dynamics::DynamicsError;
+
+    /// Names and kinds come from the variants: the same message in another variant is
+    /// another kind, and a message that starts with an option's name names nothing.
+    #[test]
+    fn names_and_kinds_are_read_from_variants() {
+        let steps = FlowError::from(HarnessError::setting(&["steps"], "steps: too few"));
+        assert_eq!(steps.names(), ["steps"]);
+        assert_eq!(steps.kind(), ErrorKind::BadInput);
+        assert_eq!(steps.to_string(), "steps: too few");
+        let data = FlowError::from(HarnessError::Data("t-end must be positive".into()));
+        assert!(data.names().is_empty());
+        assert_eq!(data.kind(), ErrorKind::BadInput);
+        let sigma = FlowError::from(ClosedFormError::OnSigma("h = 0".into()));
+        assert_eq!(sigma.names(), ["m", "h"]);
+        assert_eq!(sigma.kind(), ErrorKind::BadInput);
+        let settings = FlowError::from(DynamicsError::Settings("too many steps".into()));
+        assert_eq!(settings.names(), ["t-end", "rtol", "atol"]);
+        for failed in [
+            FlowError::from(HarnessError::Integrator("died".into())),
+            FlowError::from(HarnessError::Observer("stopped".into())),
+            FlowError::from(DynamicsError::Integration("step size underflow".into())),
+            FlowError::Output("out.svg: disk full".into()),
+        ] {
+            assert_eq!(failed.kind(), ErrorKind::Failed, "{failed}");
+            assert!(failed.names().is_empty(), "{failed}");
+        }
+        let input = FlowError::input(&["t-end"], "must be positive");
+        assert_eq!(
+            (input.names(), input.kind()),
+            (vec!["t-end".to_string()], ErrorKind::BadInput)
+        );
+        assert_eq!(
+            FlowError::Interrupted("3 of 5 runs".into()).kind(),
+            ErrorKind::Interrupted
+        );
     }
 }

@@ -259,7 +259,7 @@ impl Analysis {
             return Ok(());
         }
         case.t_end = rsts_closed_form::Decimal::from_f64((2.0 * t_max).min(f64::MAX))
-            .map_err(|e| HarnessError::Case(format!("t: {e}")))?;
+            .map_err(|e| HarnessError::Data(format!("t: {e}")))?;
         let info = RunInfo {
             method: self.report.method.clone(),
             rtol: self.report.rtol,
@@ -539,7 +539,7 @@ pub fn analyse(
     observer: &mut dyn Observer,
 ) -> Result<Report, HarnessError> {
     if times.len() != states.len() {
-        return Err(HarnessError::Case(format!(
+        return Err(HarnessError::Data(format!(
             "{} times and {} states",
             times.len(),
             states.len()

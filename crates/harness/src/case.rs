@@ -43,10 +43,10 @@ impl Case {
         t_end: f64,
         samples: usize,
     ) -> Result<Self, HarnessError> {
-        let motion = Motion::from_f64s(parameters, torus, phases)
-            .map_err(|e| HarnessError::Case(e.to_string()))?;
-        let t_end = rsts_closed_form::motion::binary("t-end", t_end)
-            .map_err(|e| HarnessError::Case(e.to_string()))?;
+        let named =
+            |e: rsts_closed_form::InputError| HarnessError::setting(&[e.name], e.error.to_string());
+        let motion = Motion::from_f64s(parameters, torus, phases).map_err(named)?;
+        let t_end = rsts_closed_form::motion::binary("t-end", t_end).map_err(named)?;
         Ok(Self::new(motion, t_end, samples))
     }
 
@@ -58,13 +58,19 @@ impl Case {
     /// T ≥ 0 and N ≥ 1 (the motion itself is checked by the closed form).
     pub fn validate(&self) -> Result<(), HarnessError> {
         if self.t_end.is_negative() {
-            return Err(HarnessError::Case(format!(
-                "t-end must be non-negative, got {}",
-                rsts_dynamics::number::shorten(self.t_end.as_str())
-            )));
+            return Err(HarnessError::setting(
+                &["t-end"],
+                format!(
+                    "t-end must be non-negative, got {}",
+                    rsts_dynamics::number::shorten(self.t_end.as_str())
+                ),
+            ));
         }
         if self.samples == 0 {
-            return Err(HarnessError::Case("samples must be at least 1".into()));
+            return Err(HarnessError::setting(
+                &["samples"],
+                "samples must be at least 1",
+            ));
         }
         Ok(())
     }

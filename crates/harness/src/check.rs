@@ -115,7 +115,7 @@ pub fn identify_case(
 ) -> Result<(CheckedCase, f64), HarnessError> {
     let bits = t0.prec();
     let id = identify(&a.to_float(bits), &b.to_float(bits), first).map_err(|e| {
-        HarnessError::Case(match e {
+        HarnessError::Data(match e {
             IdentifyError::Input(msg) => format!("first row: {msg}"),
             IdentifyError::NoTorus {
                 m,
@@ -129,7 +129,7 @@ pub fn identify_case(
     })?;
     let relative = id.distance.relative.to_f64();
     if relative.is_nan() || relative > ON_N_TOLERANCE {
-        return Err(HarnessError::Case(format!(
+        return Err(HarnessError::Data(format!(
             "first row: not on N of a = {a}, b = {b}: its relative distance from N is {relative:.3e} (> {ON_N_TOLERANCE:e}); give the motion with --m, --h (and --torus, --phase1, --phase2) to check it anyway"
         )));
     }
@@ -137,7 +137,7 @@ pub fn identify_case(
     let digits = rsts_dynamics::scalar::digits_for_bits(bits) + 3;
     let decimal = |x: &Float| {
         Decimal::parse(&x.to_decimal(digits)).map_err(|e| {
-            HarnessError::Case(format!("first row: an identified value is not finite: {e}"))
+            HarnessError::Data(format!("first row: an identified value is not finite: {e}"))
         })
     };
     let zero = Decimal::from_integer(0);
@@ -215,7 +215,7 @@ impl Check {
             }
         };
         let t_extent =
-            Decimal::from_f64(t_extent).map_err(|e| HarnessError::Case(format!("times: {e}")))?;
+            Decimal::from_f64(t_extent).map_err(|e| HarnessError::Data(format!("times: {e}")))?;
         let harness_case = Case::new(case.motion.clone(), t_extent, 1);
         let info = RunInfo {
             method: request.name.clone(),
@@ -225,7 +225,7 @@ impl Check {
         };
         let analysis = Analysis::for_case(&harness_case, bits, info).map_err(|e| {
             if case.identified {
-                HarnessError::Case(format!(
+                HarnessError::Data(format!(
                     "the motion identified from the first row of {}: {e}",
                     request.file
                 ))
@@ -266,14 +266,14 @@ impl Check {
 /// As many states as times, and at least one.
 pub(crate) fn check_lengths(times: &[Float], states: &[State<Float>]) -> Result<(), HarnessError> {
     if times.len() != states.len() {
-        return Err(HarnessError::Case(format!(
+        return Err(HarnessError::Data(format!(
             "{} times and {} states",
             times.len(),
             states.len()
         )));
     }
     if times.is_empty() {
-        return Err(HarnessError::Case("no samples to check".into()));
+        return Err(HarnessError::Data("no samples to check".into()));
     }
     Ok(())
 }

@@ -95,7 +95,7 @@ impl CheckStream {
         run: impl FnOnce(&mut Analysis) -> Result<Option<SampleErrors>, HarnessError>,
     ) -> Result<bool, HarnessError> {
         if n != n_states {
-            return Err(HarnessError::Case(format!(
+            return Err(HarnessError::Data(format!(
                 "{n} times and {n_states} states"
             )));
         }

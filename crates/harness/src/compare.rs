@@ -152,7 +152,10 @@ pub fn compare_at(
     observer: &mut dyn Observer,
 ) -> Result<Report, HarnessError> {
     if options.pieces == 0 {
-        return Err(HarnessError::Case("pieces must be at least 1".into()));
+        return Err(HarnessError::setting(
+            &["pieces"],
+            "pieces must be at least 1",
+        ));
     }
     let case = sampled(motion, times)?;
     let samples = case.samples;
@@ -221,7 +224,7 @@ pub fn compare_at(
         analysis.rename(integrator.name());
         analysis.set_digits(integrator.digits());
         if traj.states.len() != local.len() || traj.times.len() != local.len() {
-            return Err(HarnessError::Case(format!(
+            return Err(HarnessError::Integrator(format!(
                 "{} returned {} states for {} sample times",
                 integrator.name(),
                 traj.states.len(),

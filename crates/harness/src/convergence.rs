@@ -59,18 +59,25 @@ pub struct FixedStepMethod {
 }
 
 impl FixedStepMethod {
-    /// Checked: the Taylor methods need an order, the others take none.
-    pub fn new(method: MethodName, order: Option<usize>, digits: u32) -> Result<Self, String> {
+    /// Checked: the Taylor methods need an order (else an error naming `methods` and
+    /// `order`), the others take none.
+    pub fn new(
+        method: MethodName,
+        order: Option<usize>,
+        digits: u32,
+    ) -> Result<Self, HarnessError> {
         let taylor = matches!(
             method,
             MethodName::TaylorF64 | MethodName::TaylorDd | MethodName::TaylorMp
         );
         match (taylor, order) {
-            (true, None) => Err(format!(
-                "{method} at fixed steps needs a fixed order (--order P)"
+            (true, None) => Err(HarnessError::setting(
+                &["methods", "order"],
+                format!("{method} at fixed steps needs a fixed order (--order P)"),
             )),
             (true, Some(p)) => {
-                Taylor::fixed(p, 1.0).map_err(|e| e.to_string())?;
+                Taylor::fixed(p, 1.0)
+                    .map_err(|e| HarnessError::setting(&["order"], e.to_string()))?;
                 Ok(Self {
                     method,
                     order,
@@ -167,32 +174,42 @@ impl ConvergencePlan {
         case.validate()?;
         let t_end = case.t_end_f64();
         if t_end <= 0.0 {
-            return Err(HarnessError::Case(format!(
-                "t-end must be positive for a convergence study, got {}",
-                case.t_end
-            )));
+            return Err(HarnessError::setting(
+                &["t-end"],
+                format!(
+                    "t-end must be positive for a convergence study, got {}",
+                    case.t_end
+                ),
+            ));
         }
         if !(2..=MAX_CONVERGENCE_SAMPLES).contains(&case.samples) {
-            return Err(HarnessError::Case(format!(
-                "samples must be between 2 and {MAX_CONVERGENCE_SAMPLES} for a convergence \
-                 study (the error is measured there), got {}",
-                case.samples
-            )));
+            return Err(HarnessError::setting(
+                &["samples"],
+                format!(
+                    "samples must be between 2 and {MAX_CONVERGENCE_SAMPLES} for a convergence \
+                     study (the error is measured there), got {}",
+                    case.samples
+                ),
+            ));
         }
         let spacing = OutputGrid::new(t_end, case.samples)?.spacing();
         let mut used: Vec<f64> = Vec::new();
         for &h in steps {
             if !(h.is_finite() && h > 0.0) {
-                return Err(HarnessError::Case(format!(
-                    "steps must be positive finite numbers, got {h}"
-                )));
+                return Err(HarnessError::setting(
+                    &["steps"],
+                    format!("steps must be positive finite numbers, got {h}"),
+                ));
             }
             if h > spacing * (1.0 + 1e-12) {
-                return Err(HarnessError::Case(format!(
-                    "steps: {h} is larger than the sample spacing {} (t-end/(samples - 1)); \
-                     use fewer samples or smaller steps",
-                    rsts_dynamics::short(spacing)
-                )));
+                return Err(HarnessError::setting(
+                    &["steps"],
+                    format!(
+                        "steps: {h} is larger than the sample spacing {} (t-end/(samples - 1)); \
+                         use fewer samples or smaller steps",
+                        rsts_dynamics::short(spacing)
+                    ),
+                ));
             }
             let e = spacing / (spacing / h).ceil().max(1.0);
             if !used.contains(&e) {
@@ -201,21 +218,27 @@ impl ConvergencePlan {
         }
         used.sort_by(|a, b| b.total_cmp(a));
         if used.len() < 3 {
-            return Err(HarnessError::Case(format!(
-                "steps: an order is fitted over at least 3 distinct steps, got {} \
-                 (a step h is used as the sample spacing over a whole number of steps)",
-                used.len()
-            )));
+            return Err(HarnessError::setting(
+                &["steps"],
+                format!(
+                    "steps: an order is fitted over at least 3 distinct steps, got {} \
+                     (a step h is used as the sample spacing over a whole number of steps)",
+                    used.len()
+                ),
+            ));
         }
         let per_method: f64 = used.iter().map(|h| t_end / h).sum();
         if per_method > MAX_SWEEP_STEPS {
-            return Err(HarnessError::Case(format!(
-                "t-end {} takes about {} steps per method at these steps, more than the \
-                 limit of {}; use larger steps or a shorter t-end",
-                rsts_dynamics::short(t_end),
-                rsts_dynamics::short(per_method),
-                rsts_dynamics::short(MAX_SWEEP_STEPS)
-            )));
+            return Err(HarnessError::setting(
+                &["t-end"],
+                format!(
+                    "t-end {} takes about {} steps per method at these steps, more than the \
+                     limit of {}; use larger steps or a shorter t-end",
+                    rsts_dynamics::short(t_end),
+                    rsts_dynamics::short(per_method),
+                    rsts_dynamics::short(MAX_SWEEP_STEPS)
+                ),
+            ));
         }
         Ok(Self { case, steps: used })
     }
@@ -281,7 +304,7 @@ pub fn convergence(
         .iter()
         .map(|m| reference_bits_for(m.working_bits()))
         .max()
-        .ok_or_else(|| HarnessError::Case("no method to run".into()))?;
+        .ok_or_else(|| HarnessError::setting(&["methods"], "no method to run"))?;
     let reference = Reference::new(&plan.case, bits)?;
     let problem = Problem {
         fields: reference.fields().clone(),

@@ -52,7 +52,7 @@ pub fn dense_of_method(
     case.validate()?;
     let start = ReferenceTable::new(case, &[0.0], None)?
         .row_f64(0.0)
-        .map_err(HarnessError::Case)?;
+        .map_err(HarnessError::Data)?;
     let problem = Problem {
         fields: case.motion.fields(53)?,
         initial: State::from_slice(&start[1..10]),
@@ -81,7 +81,7 @@ pub fn dense_of_samples(
             Ok((e, end))
         })
         .collect::<Result<_, String>>()
-        .map_err(HarnessError::Case)?;
+        .map_err(HarnessError::Data)?;
     let worst = |at_end: bool| {
         errors
             .iter()

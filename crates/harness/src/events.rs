@@ -254,7 +254,7 @@ pub fn exact_event_times(
     }
     // The window of f64 data: its ends' exact binary values.
     let end = |t: f64| {
-        rsts_closed_form::Decimal::from_f64(t).map_err(|e| HarnessError::Case(e.to_string()))
+        rsts_closed_form::Decimal::from_f64(t).map_err(|e| HarnessError::Data(e.to_string()))
     };
     let case = EventCase {
         motion: motion.clone(),

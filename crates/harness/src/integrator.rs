@@ -113,17 +113,17 @@ fn as_grid(times: &[f64]) -> Option<OutputGrid> {
 /// Check the times handed to an integrator: starting at 0, finite, strictly increasing.
 pub fn check_times(times: &[f64]) -> Result<(), HarnessError> {
     if times.is_empty() {
-        return Err(HarnessError::Case("no sample times".into()));
+        return Err(HarnessError::Data("no sample times".into()));
     }
     if times[0] != 0.0 {
-        return Err(HarnessError::Case(format!(
+        return Err(HarnessError::Data(format!(
             "sample times must start at 0 (the initial state), got {}",
             times[0]
         )));
     }
     for (k, w) in times.windows(2).enumerate() {
         if !(w[1].is_finite() && w[1] > w[0]) {
-            return Err(HarnessError::Case(format!(
+            return Err(HarnessError::Data(format!(
                 "sample times must be finite and strictly increasing: time {} is {} after {}",
                 k + 1,
                 w[1],
@@ -153,7 +153,7 @@ fn through_times<T: Clone>(
         let (t_end, last) = match (sol.times.last(), sol.states.last()) {
             (Some(t), Some(s)) if sol.states.len() == 2 => (*t, s.clone()),
             _ => {
-                return Err(HarnessError::Case(format!(
+                return Err(HarnessError::Integrator(format!(
                     "{} returned {} states for 2 times",
                     sol.method,
                     sol.states.len()

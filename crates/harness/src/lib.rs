@@ -68,15 +68,18 @@ pub use integrator::{check_times, Integrator, Propagated, Trajectory};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot, StatedStats};
 pub use rsts_dynamics::integrators::MethodConfig;
 
-/// Errors of a comparison.
+/// Errors of a comparison. A face reads the inputs an error concerns from its variant
+/// ([`HarnessError::parameters`]) and its kind from the variant too; no message is parsed.
 #[derive(Debug, thiserror::Error)]
 pub enum HarnessError {
     #[error(transparent)]
     ClosedForm(#[from] rsts_closed_form::ClosedFormError),
     #[error(transparent)]
     Dynamics(#[from] rsts_dynamics::DynamicsError),
+    /// Samples or times that cannot be used as given, naming no input of the request (times and
+    /// states of different lengths, no samples, a first row off N).
     #[error("{0}")]
-    Case(String),
+    Data(String),
     #[error("observer: {0}")]
     Observer(String),
     /// An integrator failed (an external process: what it did and the end of its stderr).
@@ -96,9 +99,18 @@ pub enum HarnessError {
 pub const MAX_SAMPLES: usize = 10_000_000;
 
 impl HarnessError {
+    /// A setting error concerning the inputs `names` (the CLI's options without `--`).
+    pub fn setting(names: &[&str], message: impl Into<String>) -> Self {
+        HarnessError::Setting(
+            names.iter().map(|n| n.to_string()).collect(),
+            message.into(),
+        )
+    }
+
     /// The parameters an error concerns (`["m", "h"]` for a point on Σ, `["torus"]` for a
-    /// missing torus, …; empty when it names none): the CLI writes them as options (`--m/--h:`),
-    /// the Python package as its arguments (`m/h:`), in front of the same message.
+    /// missing torus, …; empty when it names none), read from its variant: the CLI writes them
+    /// as options (`--m/--h:`), the Python package as its arguments (`m/h:`), in front of the
+    /// same message.
     pub fn parameters(&self) -> Vec<String> {
         use rsts_closed_form::ClosedFormError as C;
         let names: &[&str] = match self {
@@ -113,15 +125,23 @@ impl HarnessError {
                 &["t-end", "rtol", "atol"]
             }
             HarnessError::Setting(names, _) => return names.clone(),
-            HarnessError::Case(msg) => {
-                return ["t-end", "samples", "phase1", "phase2", "a", "b", "m", "h"]
-                    .into_iter()
-                    .find(|name| msg.starts_with(&format!("{name} ")))
-                    .map(|name| vec![name.to_string()])
-                    .unwrap_or_default()
-            }
-            _ => &[],
+            HarnessError::Dynamics(_)
+            | HarnessError::Data(_)
+            | HarnessError::Observer(_)
+            | HarnessError::Integrator(_)
+            | HarnessError::Merge(_) => &[],
         };
         names.iter().map(|n| n.to_string()).collect()
+    }
+
+    /// A run that failed (an integrator, an observer that stopped it, an integration that
+    /// diverged), not input refused before the work.
+    pub fn is_failure(&self) -> bool {
+        matches!(
+            self,
+            HarnessError::Integrator(_)
+                | HarnessError::Observer(_)
+                | HarnessError::Dynamics(rsts_dynamics::DynamicsError::Integration(_))
+        )
     }
 }

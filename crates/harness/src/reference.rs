@@ -97,7 +97,7 @@ impl ReferenceTable {
     pub fn for_reach(case: &Case, t_max: f64, digits: Option<u32>) -> Result<Self, HarnessError> {
         let bits = bits_for_digits(digits.unwrap_or(30)) + REFERENCE_GUARD_BITS;
         let reach = rsts_closed_form::Decimal::from_f64(t_max)
-            .map_err(|e| HarnessError::Case(format!("times: {e}")))?;
+            .map_err(|e| HarnessError::Data(format!("times: {e}")))?;
         let case = case.with_grid(reach, 1);
         case.validate()?;
         let info = RunInfo {

@@ -43,9 +43,7 @@ pub fn convergence<'py>(
     let mut fixed = Vec::new();
     for m in &methods {
         let name: MethodName = m.parse().map_err(|e| value_error(&["methods"], e))?;
-        fixed.push(
-            FixedStepMethod::new(name, order, digits).map_err(|e| value_error(&["order"], e))?,
-        );
+        fixed.push(FixedStepMethod::new(name, order, digits).map_err(harness_error)?);
     }
     if order.is_some() && !fixed.iter().any(|f| f.order.is_some()) {
         return Err(value_error(
@@ -57,14 +55,7 @@ pub fn convergence<'py>(
         case.on_grid(crate::case::time("t_end", t_end)?, samples),
         &steps,
     )
-    .map_err(|e| {
-        let msg = e.to_string();
-        if msg.starts_with("steps") {
-            value_error(&["steps"], msg)
-        } else {
-            harness_error(e)
-        }
-    })?;
+    .map_err(harness_error)?;
     let report = py
         .detach(|| {
             let mut refs: Vec<&mut dyn FixedStepIntegrator> = fixed

@@ -24,52 +24,38 @@ mod convergence;
 mod events;
 mod identify;
 
+/// An input's name as this package spells it: the CLI's option without `--`, `_` for `-`
+/// (`t-end` → `t_end`).
+pub(crate) fn python_name(name: &str) -> String {
+    name.replace('-', "_")
+}
+
 /// `ValueError` with the message `names: message` (the CLI's message, naming the Python
 /// arguments where the CLI names its options).
 pub(crate) fn value_error(names: &[impl AsRef<str>], message: impl std::fmt::Display) -> PyErr {
     if names.is_empty() {
         PyValueError::new_err(message.to_string())
     } else {
-        let names: Vec<&str> = names.iter().map(|n| n.as_ref()).collect();
+        let names: Vec<String> = names.iter().map(|n| python_name(n.as_ref())).collect();
         PyValueError::new_err(format!("{}: {message}", names.join("/")))
     }
 }
 
-/// A harness error as the CLI words it: `ValueError` when it concerns given values (they are
-/// named), `RuntimeError` otherwise (a run that failed).
-pub(crate) fn harness_error(e: rsts_harness::HarnessError) -> PyErr {
-    use rsts_harness::HarnessError as H;
-    let names = e.parameters();
-    match e {
-        H::Integrator(_)
-        | H::Observer(_)
-        | H::Dynamics(rsts_dynamics::DynamicsError::Integration(_))
-            if names.is_empty() =>
-        {
-            PyRuntimeError::new_err(e.to_string())
-        }
-        _ => value_error(&names, e),
+/// A flow's error as the CLI words it, by its kind: `ValueError` for bad input (naming the
+/// inputs it concerns), `RuntimeError` for a run that failed, `KeyboardInterrupt` for one
+/// that was stopped. Nothing is read from the message.
+pub(crate) fn flow_error(e: rsts_flows::FlowError) -> PyErr {
+    use rsts_flows::ErrorKind;
+    match e.kind() {
+        ErrorKind::BadInput => value_error(&e.names(), e),
+        ErrorKind::Failed => PyRuntimeError::new_err(e.to_string()),
+        ErrorKind::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string()),
     }
 }
 
-/// An error of a flow as the CLI words it, naming the Python arguments (`t_end` where the CLI
-/// says `--t-end`): `ValueError` for bad input, `RuntimeError` for a failed run,
-/// `KeyboardInterrupt` for an interrupted one.
-pub(crate) fn flow_error(e: rsts_flows::FlowError) -> PyErr {
-    use rsts_flows::{ErrorKind, FlowError};
-    match e {
-        FlowError::Harness(h) => harness_error(h),
-        e => {
-            let names: Vec<String> = e.names().iter().map(|n| n.replace('-', "_")).collect();
-            match e.kind() {
-                ErrorKind::BadInput => value_error(&names, e),
-                ErrorKind::Interrupted => {
-                    pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string())
-                }
-                ErrorKind::Failed => PyRuntimeError::new_err(e.to_string()),
-            }
-        }
-    }
+/// A harness error as the CLI words it (see [`flow_error`]).
+pub(crate) fn harness_error(e: rsts_harness::HarnessError) -> PyErr {
+    flow_error(e.into())
 }
 
 /// A report as a dict: its serde serialisation, the JSON text the CLI prints with

@@ -66,7 +66,7 @@ pub(crate) fn execute(
             let digits = r
                 .digits
                 .unwrap_or(rsts_dynamics::integrators::DEFAULT_MP_DIGITS);
-            FixedStepMethod::new(m, order, digits)
+            FixedStepMethod::new(m, order, digits).map_err(|e| e.to_string())
         })
         .and_then(|mut method| {
             let plan =

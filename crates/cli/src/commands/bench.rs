@@ -317,7 +317,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         for (row, l) in report.rows.iter().zip(&report.labels) {
             if let Some(why) = row.events.and_then(|ev| ev.failure(limit)) {
                 out.flush()?;
-                return Err(crate::commands::validate::Failed(format!(
+                return Err(crate::failure::Failed(format!(
                     "{} at tolerance {:e}: {why}",
                     l.label, row.tolerance
                 ))

@@ -100,14 +100,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         );
     }
     let case = args.case.case(&args.t_end, args.samples);
-    let plan = ConvergencePlan::new(case, &steps).map_err(|e| {
-        let msg = e.to_string();
-        if msg.starts_with("steps") {
-            anyhow!("--steps: {msg}")
-        } else {
-            case_error(e)
-        }
-    })?;
+    let plan = ConvergencePlan::new(case, &steps).map_err(case_error)?;
     let given = match &args.methods {
         Some(m) => m.clone(),
         None if args.exec.is_empty() => vec![MethodName::Rk4],
@@ -115,17 +108,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     };
     let mut builtins = Vec::new();
     for m in given {
-        builtins.push(
-            FixedStepMethod::new(m, args.order, args.digits).map_err(|e| {
-                if e.contains("needs a fixed order") {
-                    anyhow!("--methods/--order: {e}")
-                } else if e.contains("order") {
-                    anyhow!("--order: {e}")
-                } else {
-                    anyhow!("--methods: {e}")
-                }
-            })?,
-        );
+        builtins.push(FixedStepMethod::new(m, args.order, args.digits).map_err(case_error)?);
     }
     if args.order.is_some() && !builtins.iter().any(|b| b.order.is_some()) {
         bail!("--order: only the Taylor methods take a fixed order");

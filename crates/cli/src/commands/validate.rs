@@ -15,6 +15,7 @@ use rsts_validate::suite::AdapterSpec;
 use rsts_validate::{merge_dirs, validate, Options, Report, RunResult, Shard, Status, Suite};
 
 use crate::external::TimeoutArgs;
+use crate::failure::Failed;
 
 /// Shown at the end of `rsts validate --help`.
 pub const EXAMPLES: &str = "\
@@ -103,17 +104,6 @@ pub struct MergeArgs {
     #[arg(long, value_name = "FILE")]
     pub history: Option<PathBuf>,
 }
-
-/// Some run failed or regressed (exit code 1).
-#[derive(Debug)]
-pub struct Failed(pub String);
-
-impl std::fmt::Display for Failed {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-impl std::error::Error for Failed {}
 
 fn finish(report: &Report, dir: &std::path::Path, out: &mut dyn Write) -> anyhow::Result<()> {
     let s = &report.summary;

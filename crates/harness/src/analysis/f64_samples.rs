@@ -29,7 +29,7 @@ impl Analysis {
         observer: &mut dyn Observer,
     ) -> Result<Option<SampleErrors>, HarnessError> {
         if times.len() != states.len() {
-            return Err(HarnessError::Case(format!(
+            return Err(HarnessError::Data(format!(
                 "{} times and {} states",
                 times.len(),
                 states.len()

@@ -146,7 +146,7 @@ pub fn max_state_error(
     states: &[State<Float>],
 ) -> Result<f64, HarnessError> {
     if reference.len() != states.len() {
-        return Err(HarnessError::Case(format!(
+        return Err(HarnessError::Data(format!(
             "{} states compared with {} reference states",
             states.len(),
             reference.len()
@@ -229,11 +229,14 @@ pub fn measure_integrator(
     repeats: usize,
 ) -> Result<BenchRow, HarnessError> {
     if repeats == 0 {
-        return Err(HarnessError::Case("repeats must be at least 1".into()));
+        return Err(HarnessError::setting(
+            &["repeats"],
+            "repeats must be at least 1",
+        ));
     }
     let needed = reference_bits_for(integrator.working_bits());
     if reference.bits < needed {
-        return Err(HarnessError::Case(format!(
+        return Err(HarnessError::Data(format!(
             "the reference has {} bits, {} needs {needed}",
             reference.bits,
             integrator.name()
@@ -290,7 +293,8 @@ fn summarize(
             first = Some(traj);
         }
     }
-    let traj = first.ok_or_else(|| HarnessError::Case("repeats must be at least 1".into()))?;
+    let traj =
+        first.ok_or_else(|| HarnessError::setting(&["repeats"], "repeats must be at least 1"))?;
     Ok(BenchRow {
         motion: None,
         method: String::new(),
