@@ -75,8 +75,10 @@ impl Ensemble {
     /// The case of motion `k`: `base` (a, b, T, samples) at the motion's point, torus and phases.
     pub fn case(&self, base: &Case, k: usize) -> Case {
         let mo = &self.motions[k];
+        // The motion the report prints: each drawn number is the decimal of its shortest
+        // text, as JSON shows it, so `--m 0.123…` of a printed motion is the motion measured.
         let exact =
-            |x: f64| rsts_closed_form::Decimal::from_f64(x).expect("a drawn motion is finite");
+            |x: f64| rsts_closed_form::Decimal::shortest(x).expect("a drawn motion is finite");
         let motion = rsts_closed_form::Motion {
             m: exact(mo.m),
             h: exact(mo.h),

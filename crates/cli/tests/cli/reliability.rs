@@ -570,13 +570,14 @@ fn d05_dense_output_at_twenty_thousand_samples_hits_every_grid_time() {
 
 // ---- 6. points on Σ --------------------------------------------------------------------------
 
-/// Points exactly on Σ for a = 1, b = 0.5, typed as decimals (rounded to f64 on input), with
-/// the line each lies on.
+/// Points exactly on Σ for a = 1, b = 0.5, as decimals (each the number it writes: −0.4, 1.7 is
+/// on h = r²m + 2a exactly; −0.6666666666666666, 1.5 is not, 5e-17 above it), with the line
+/// each lies on.
 const ON_SIGMA: [(&str, &str, &str); 4] = [
     ("0.2", "-1.15", "h = −r²m − 2b"),
     ("0.3", "2.225", "h = r²m + 2a"),
     ("0.3", "0.775", "h = −r²m + 2b"),
-    ("-0.6666666666666666", "1.5", "h = r²m + 2a"),
+    ("-0.4", "1.7", "h = r²m + 2a"),
 ];
 
 #[test]
@@ -733,17 +734,12 @@ fn d07_explicit_at_a_huge_time_is_the_motion_at_that_time() {
         "json",
     ]);
     assert_eq!(code(&f64_run), Some(0), "{}", stderr(&f64_run));
-    // The same motion at the same time: the exact decimal values of the f64 numbers 1e300 and
-    // 0.3 (the decimal 10^300 is another time, ~1e284 away, and the decimal 0.3 another motion,
-    // whose phase at t = 1e300 is unrelated).
-    let t_exact = format!("{:.0}", 1e300_f64);
-    let m_exact = format!("{:.60}", 0.3_f64);
+    // The same motion at the same time: the decimals 1e300 and 0.3 (the time 10^300 and the
+    // decimal m, at every precision).
     let mp_run = rsts(&[
         "explicit",
         "--t-end",
-        &t_exact,
-        "--m",
-        &m_exact,
+        "1e300",
         "--samples",
         "2",
         "--digits",
@@ -764,7 +760,7 @@ fn d07_explicit_at_a_huge_time_is_the_motion_at_that_time() {
         num(&a["samples"][1]["omega"][0]),
     );
     let w1_mp = num(&b["samples"][1]["omega"][0]);
-    assert!((w1 - w1_mp).abs() < 1e-12, "f64 {w1} vs 40 digits {w1_mp}");
+    assert_eq!(w1, w1_mp, "f64 {w1} vs 40 digits {w1_mp}");
     assert!(
         (w1 - w0).abs() > 1e-6,
         "the state at t = 1e300 is the state at t = 0"
@@ -804,8 +800,11 @@ fn d07_reference_and_check_at_a_huge_time_follow_the_motion() {
         (w(&r, 1) - w(&r, 0)).abs() > 1e-6,
         "the state at 1e300 is the one at 0"
     );
+    // check reads the trajectory's f64 times as binary64 numbers: the rows are written at the
+    // time the f64 1e300 is exactly (10^300 is another time, ~1e284 away).
     let traj = d.join("huge.csv");
-    let out = rsts(&["reference", "--times", "0,1,1e300", "-o", s(&traj)]);
+    let t_exact = format!("0,1,{:.0}", 1e300_f64);
+    let out = rsts(&["reference", "--times", &t_exact, "-o", s(&traj)]);
     assert_eq!(code(&out), Some(0), "{}", stderr(&out));
     for motion in [vec![], vec!["--m", "0.3", "--h", "-0.375"]] {
         let mut args = vec!["check", s(&traj), "--format", "json"];
