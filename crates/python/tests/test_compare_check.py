@@ -44,7 +44,8 @@ def test_a_scipy_integrator_is_checked_in_process(cli_json, tmp_path):
         calls.append((x0.copy(), times.copy(), a, b, rtol, atol))
         return scipy_dop853(x0, times, a, b, rtol, atol)
 
-    case = rsts.Case(1, 0.5, -0.7092, 1.5643, torus=2)
+    # The decimals the CLI reads (a Python float is its exact binary value, another motion).
+    case = rsts.Case(1, 0.5, "-0.7092", "1.5643", torus=2)
     report = rsts.compare(integrator, case=case, t_end=20, samples=201, rtol=1e-10, atol=1e-10)
     # Called once, with numpy arrays: the exact start and the whole grid.
     assert len(calls) == 1
@@ -69,14 +70,14 @@ def test_a_scipy_integrator_is_checked_in_process(cli_json, tmp_path):
 
 
 def test_check_is_the_cli_report(cli_json, tmp_path):
-    case = rsts.Case(1, 0.5, 0.3, -0.375, phase1=0.7)
+    case = rsts.Case(1, 0.5, "0.3", "-0.375", phase1="0.7")
     times = np.linspace(0.0, 10.0, 51)
     states = scipy_dop853(case.reference([0.0])[0], times, 1.0, 0.5, 1e-9, 1e-9)
     path = tmp_path / "traj.npy"
     save_trajectory(path, times, states)
     for given in ([], ["--m", 0.3, "--h", -0.375, "--phase1", 0.7]):
         expected = cli_json("check", path, *given)
-        kwargs = dict(m=0.3, h=-0.375, phase1=0.7) if given else {}
+        kwargs = dict(m="0.3", h="-0.375", phase1="0.7") if given else {}
         got = rsts.check(times, states, 1.0, 0.5, name="traj.npy", **kwargs)
         assert list(got) == list(expected)
         assert got["file"] == "<arrays>"

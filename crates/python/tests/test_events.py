@@ -9,7 +9,9 @@ import rsts
 def test_events_are_the_cli_document(cli_json):
     expected = cli_json("events", "--m", -0.7092, "--h", 1.5643, "--torus", 3, "--event", "gamma3:down",
                         "--event", "s1", "--t-end", 10, "--digits", 40)
-    got = rsts.events(["gamma3:down", "s1"], m=-0.7092, h=1.5643, torus=3, t_end=10.0, digits=40)
+    # The decimals the CLI reads, as strings (a float is its exact binary value, another motion).
+    case = rsts.Case(1, 0.5, "-0.7092", "1.5643", torus=3)
+    got = rsts.events(["gamma3:down", "s1"], case=case, t_end=10, digits=40)
     assert got == expected
     assert len(got["events"]) >= 2
     assert all(isinstance(e["t"], str) for e in got["events"])

@@ -6,7 +6,9 @@ import pytest
 import rsts
 from conftest import cli_error
 
-CAMERA_V = dict(a=1.0, b=0.5, m=-0.7092, h=1.5643, torus=2, phase1=0.4, phase2=1.3)
+# The decimals the CLI reads, as strings: a Python float is its exact binary value (another
+# motion, 1e-17 away), a str the decimal it writes.
+CAMERA_V = dict(a="1", b="0.5", m="-0.7092", h="1.5643", torus=2, phase1="0.4", phase2="1.3")
 TIMES = [0.0, 0.5, 2.0, 10.25, 99.875, 1000.0]
 
 
@@ -17,11 +19,14 @@ def case_args(c):
 
 def test_case_attributes_and_default():
     c = rsts.Case(**CAMERA_V)
-    assert (c.a, c.b, c.m, c.h, c.torus, c.phase1, c.phase2) == tuple(CAMERA_V.values())
+    assert (c.a, c.b, c.m, c.h, c.torus, c.phase1, c.phase2) == tuple(
+        v if isinstance(v, int) else float(v) for v in CAMERA_V.values())
     assert c.camera == "V"
     d = rsts.Case.default()
     assert (d.a, d.b, d.m, d.h, d.torus, d.camera) == (1.0, 0.5, 0.3, -0.375, 0, "I+")
-    assert d == rsts.Case(1, 0.5, 0.3, -0.375) and d != rsts.Case(**CAMERA_V)
+    assert d == rsts.Case(1, 0.5, "0.3", -0.375) and d != rsts.Case(**CAMERA_V)
+    # The float 0.3 is another motion than the decimal 0.3.
+    assert d != rsts.Case(1, 0.5, 0.3, -0.375)
 
 
 def test_reference_is_bit_identical_to_the_cli(cli, tmp_path):
@@ -53,7 +58,7 @@ def test_reference_digits_are_the_cli_digits(cli):
     (dict(a=1e300), ["--a", "1e300"]),                     # outside the documented range
 ])
 def test_bad_cases_raise_the_cli_message(cli, bad, args):
-    c = dict(a=1.0, b=0.5, m=0.3, h=-0.375, torus=0)
+    c = dict(a=1.0, b=0.5, m="0.3", h=-0.375, torus=0)
     c.update(bad)
     with pytest.raises(ValueError) as e:
         rsts.Case(**c)
