@@ -49,6 +49,7 @@ if [ "${#missing[@]}" -gt 0 ]; then
   as_root env DEBIAN_FRONTEND=noninteractive apt-get update -qq >/dev/null
   as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
   echo "setup: installed in $((SECONDS - start)) s" >&2
+  [ -z "${RSTS_FETCH_LOG:-}" ] || echo "downloaded: ${missing[*]} (Debian packages, apt-get; $((SECONDS - start)) s)" >>"$RSTS_FETCH_LOG"
 fi
 
 if [ ! -x "${CARGO_TARGET_DIR:-$root/target}/release/rsts" ]; then

@@ -14,6 +14,7 @@ use serde::Serialize;
 
 use rsts_harness::dense::{dense_of_method, dense_of_samples, DenseReport, MAX_DENSE};
 use rsts_harness::environment::Environment;
+use rsts_harness::compare_diagram;
 use rsts_harness::events::{events_of_run, EventMatchReport, StateCollector};
 use rsts_harness::{
     compare_integrator, preflight, Case, CompareOptions, Integrator, Observer, Report, SampleRecord,
@@ -91,6 +92,9 @@ pub struct Args {
     /// Write the comparison to this MCAP file (Foxglove schemas)
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
+    /// Draw the state error and the drifts of H, K, G against time (log scale) as SVG
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
     /// Output format of the report (csv: one header line and one row, the JSON fields flattened)
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
@@ -326,6 +330,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         rsts_io::check_outputs(&inputs, &[rsts_io::Output::File("--mcap", path)])?;
         rsts_io::check_writable(path).with_context(|| format!("--mcap {}", path.display()))?;
     }
+    if let Some(svg) = &args.svg {
+        let inputs = args.exec.as_deref().map(rsts_external::command_files);
+        compare_diagram::check_output(svg, args.samples, args.mcap.as_deref(), &inputs.unwrap_or_default())?;
+    }
     if external.is_none() {
         if let Some(s) = specs.iter().find(|s| s.name.index() >= 12) {
             bail!(
@@ -370,9 +378,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let options = CompareOptions {
         pieces: args.pieces,
     };
-    let mut collector = StateCollector::new(&mut observer);
+    let mut recorder = compare_diagram::Recorder::new(&mut observer, args.samples);
+    let mut collector = StateCollector::new(&mut recorder);
     let result = compare_integrator(&case, integrator, &options, &mut collector);
-    let (times, states) = (collector.times, collector.states);
+    let (times, states, series) = (collector.times, collector.states, recorder.series);
     let report = match result {
         Ok(r) => r,
         Err(e) if stop.load(Ordering::SeqCst) => {
@@ -419,6 +428,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     };
     let log_stats = observer.finish()?;
     check_finite_report(&report)?;
+    if let Some(svg) = &args.svg {
+        compare_diagram::write_svg(svg, &case.motion, &report, &series)?;
+        eprintln!("SVG: {}: the state error and the drifts of H, K, G against time.", svg.display());
+    }
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     let mut environment = Environment::detect();
     if let Some(exec) = &external {
