@@ -68,7 +68,7 @@ fn f64_path_reports_the_mpfr_paths_digits() {
                 c.motion.m = rsts_closed_form::Decimal::from_f64(-0.7092).unwrap();
                 c.motion.h = rsts_closed_form::Decimal::from_f64(1.5643).unwrap();
                 c.motion.torus = 2;
-                c.t_end = rsts_closed_form::Decimal::from_f64(40.0 as f64).unwrap();
+                c.t_end = rsts_closed_form::Decimal::from_f64(40.0_f64).unwrap();
                 c
             },
             1e-12,

@@ -163,7 +163,7 @@ fn a_user_defined_propagator_is_compared_and_benchmarked() {
     use rsts_harness::{compare_integrator, measure_integrator, CompareOptions, Propagated};
     let c = {
         let mut c = case(0.3, -0.375);
-        c.t_end = rsts_closed_form::Decimal::from_f64(2.0 as f64).unwrap();
+        c.t_end = rsts_closed_form::Decimal::from_f64(2.0_f64).unwrap();
         c.samples = 21;
         c
     };

@@ -234,7 +234,7 @@ fn forty_motions_in_four_shards_merge_into_the_unsharded_report() {
     let request = |repeats: usize| BenchRequest {
         case: {
             let mut c = Case::default_i_plus();
-            c.t_end = rsts_closed_form::Decimal::from_f64(2.0 as f64).unwrap();
+            c.t_end = rsts_closed_form::Decimal::from_f64(2.0_f64).unwrap();
             c.samples = 5;
             c
         },
