@@ -66,7 +66,7 @@ fn keep(curve: &mut Vec<(f64, f64)>, first_of_run: bool, t: f64, y: f64) {
 
 impl Observer for Recorder<'_> {
     fn on_sample(&mut self, r: &SampleRecord) -> Result<(), String> {
-        let first = self.seen % self.stride == 0;
+        let first = self.seen.is_multiple_of(self.stride);
         self.seen += 1;
         let (e, s) = (&r.errors, &mut self.series);
         keep(&mut s.state_error, first, r.t, e.state_error);
@@ -90,9 +90,9 @@ impl Observer for Recorder<'_> {
 pub fn chart(motion: &Motion, report: &Report, series: &ErrorSeries) -> Chart {
     let curves = [
         ("state error max|x − x_exact|", &series.state_error),
-        ("drift of H  |H(t) − H(0)|", &series.drift_h),
-        ("drift of K  |K(t) − K(0)|", &series.drift_k),
-        ("drift of G  |G(t) − G(0)|", &series.drift_g),
+        ("drift of H: |H(t) − H(0)|", &series.drift_h),
+        ("drift of K: |K(t) − K(0)|", &series.drift_k),
+        ("drift of G: |G(t) − G(0)|", &series.drift_g),
     ];
     let series = curves
         .iter()
@@ -178,4 +178,81 @@ pub fn write_svg(
     })?;
     rsts_io::write_atomic(svg, text.as_bytes())
         .map_err(|e| io::Error::new(e.kind(), format!("--svg {}: {e}", svg.display())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::NoObserver;
+    use crate::metrics::{SampleErrors, StateSnapshot};
+
+    fn record(index: usize, t: f64, y: f64) -> SampleRecord {
+        SampleRecord {
+            index,
+            t,
+            exact: StateSnapshot::NAN,
+            integrated: StateSnapshot::NAN,
+            errors: SampleErrors {
+                state_error: y,
+                drift_h: 2.0 * y,
+                drift_k: 0.0,
+                drift_g: y / 2.0,
+                ..Default::default()
+            },
+        }
+    }
+
+    /// A value of sample i that is not monotone, so the largest of a run is not its first or last.
+    fn value(i: usize) -> f64 {
+        1.0 + ((i * 7919) % 101) as f64
+    }
+
+    #[test]
+    fn every_sample_is_kept_up_to_max_points() {
+        let mut inner = NoObserver;
+        let mut r = Recorder::new(&mut inner, 1500);
+        for i in 0..1500 {
+            r.on_sample(&record(i, i as f64, value(i))).unwrap();
+        }
+        let want: Vec<(f64, f64)> = (0..1500).map(|i| (i as f64, value(i))).collect();
+        assert_eq!(r.series.state_error, want);
+        assert_eq!(r.series.drift_h.len(), 1500);
+    }
+
+    #[test]
+    fn beyond_max_points_each_point_is_the_largest_of_its_run() {
+        let n = 3 * MAX_POINTS + 5; // runs of 4 samples
+        let mut inner = NoObserver;
+        let mut r = Recorder::new(&mut inner, n);
+        for i in 0..n {
+            r.on_sample(&record(i, i as f64, value(i))).unwrap();
+        }
+        let runs: Vec<Vec<usize>> = (0..n)
+            .collect::<Vec<_>>()
+            .chunks(4)
+            .map(|c| c.to_vec())
+            .collect();
+        assert!(r.series.state_error.len() <= MAX_POINTS);
+        assert_eq!(r.series.state_error.len(), runs.len());
+        for (point, run) in r.series.state_error.iter().zip(&runs) {
+            let top = run.iter().map(|&i| value(i)).fold(f64::MIN, f64::max);
+            assert_eq!(point.1, top, "run {run:?}");
+            assert_eq!(value(point.0 as usize), top, "the time of the largest");
+            assert!(run.contains(&(point.0 as usize)));
+        }
+        let g_top = r.series.drift_g.iter().map(|p| p.1).fold(0.0, f64::max);
+        assert_eq!(g_top, 101.0 / 2.0, "the overall peak survives");
+    }
+
+    #[test]
+    fn a_nan_is_the_worst_value_of_its_run() {
+        let mut inner = NoObserver;
+        let mut r = Recorder::new(&mut inner, 4 * MAX_POINTS);
+        for i in 0..8 {
+            let y = if i == 5 { f64::NAN } else { 1.0 };
+            r.on_sample(&record(i, i as f64, y)).unwrap();
+        }
+        assert_eq!(r.series.state_error.len(), 2);
+        assert!(r.series.state_error[1].1.is_nan());
+    }
 }

@@ -12,9 +12,9 @@ use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
+use rsts_harness::compare_diagram;
 use rsts_harness::dense::{dense_of_method, dense_of_samples, DenseReport, MAX_DENSE};
 use rsts_harness::environment::Environment;
-use rsts_harness::compare_diagram;
 use rsts_harness::events::{events_of_run, EventMatchReport, StateCollector};
 use rsts_harness::{
     compare_integrator, preflight, Case, CompareOptions, Integrator, Observer, Report, SampleRecord,
@@ -31,6 +31,9 @@ pub const EXAMPLES: &str = "\
 Examples:
   # the built-in default case: camera I+ (a=1, b=0.5, m=0.3, h=-0.375), T=100, 1001 samples, dop853 at 1e-12
   rsts compare --mcap out/compare.mcap
+
+  # the state error and the drifts of H, K, G against time, as a picture (what scripts/run.sh draws)
+  rsts compare --svg out/compare.svg
 
   # a loose Dopri5 run in camera V on its third torus, JSON report
   rsts compare --m -0.7092 --h 1.5643 --torus 2 --method dopri5 --rtol 1e-6 --atol 1e-6 --format json
@@ -332,7 +335,12 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     }
     if let Some(svg) = &args.svg {
         let inputs = args.exec.as_deref().map(rsts_external::command_files);
-        compare_diagram::check_output(svg, args.samples, args.mcap.as_deref(), &inputs.unwrap_or_default())?;
+        compare_diagram::check_output(
+            svg,
+            args.samples,
+            args.mcap.as_deref(),
+            &inputs.unwrap_or_default(),
+        )?;
     }
     if external.is_none() {
         if let Some(s) = specs.iter().find(|s| s.name.index() >= 12) {
@@ -430,7 +438,10 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     check_finite_report(&report)?;
     if let Some(svg) = &args.svg {
         compare_diagram::write_svg(svg, &case.motion, &report, &series)?;
-        eprintln!("SVG: {}: the state error and the drifts of H, K, G against time.", svg.display());
+        eprintln!(
+            "SVG: {}: the state error and the drifts of H, K, G against time.",
+            svg.display()
+        );
     }
     let mcap = args.mcap.as_ref().map(|p| p.display().to_string());
     let mut environment = Environment::detect();
