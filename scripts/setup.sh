@@ -57,7 +57,7 @@ if [ ! -x "${CARGO_TARGET_DIR:-$root/target}/release/rsts" ]; then
 setup: first build (release): GMP 6.3.0 and MPFR 4.2.2 from the sources bundled in the crate
 setup: gmp-mpfr-sys (configure and make, without their own test suites: the longest step, about
 setup: two minutes; docs/setup.md says why not Debian's libgmp-dev), then about 150 Rust crates.
-setup: Measured on a fresh clone with 2 cores: see "Quick start" in README.md. Later builds take
+setup: Measured on a fresh clone with 2 cores: see docs/setup.md. Later builds take
 setup: seconds.
 MSG
 fi
