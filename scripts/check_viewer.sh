@@ -58,10 +58,8 @@ if [ ! -x "$chromium" ]; then
   as_root env DEBIAN_FRONTEND=noninteractive apt-get update -qq >/dev/null
   as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
   [ -x "$chromium" ] || die "chromium was installed but $chromium is missing (set RSTS_CHROMIUM)"
-  # Said once by scripts/test.sh: what was downloaded, where, and how long it took.
+  # scripts/test.sh says once what was downloaded, where, and how long it took.
   [ -z "${RSTS_FETCH_LOG:-}" ] || echo "downloaded: chromium (Debian package, apt-get) into /usr/lib/chromium ($(du -sm /usr/lib/chromium 2>/dev/null | cut -f1) MB, $((SECONDS - start)) s)" >>"$RSTS_FETCH_LOG"
-else
-  [ -z "${RSTS_FETCH_LOG:-}" ] || echo "cached: chromium at $chromium (installed earlier)" >>"$RSTS_FETCH_LOG"
 fi
 
 # 2. The driver (playwright-core) and Foxglove Studio's web build.

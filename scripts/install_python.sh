@@ -40,8 +40,8 @@ if ! "$venv/bin/python" -c 'import maturin, numpy, pytest, scipy' 2>/dev/null; t
     exit 1
   fi
   fetched "downloaded: maturin, numpy, pytest, scipy (PyPI, or pip's cache ~/.cache/pip) into $venv ($(du -sm "$venv" | cut -f1) MB, $((SECONDS - start)) s)"
-else
-  fetched "cached: maturin, numpy, pytest, scipy in $venv ($(du -sm "$venv" | cut -f1) MB)"
+elif [ "$env_only" = yes ]; then
+  fetched "already there: maturin, numpy, pytest, scipy in $venv ($(du -sm "$venv" | cut -f1) MB)"
 fi
 [ "$env_only" = yes ] && exit 0
 if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"; fi

@@ -30,7 +30,7 @@ dest="${RSTS_NODE_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/rsts/node}/$name"
 size() { du -sm "$1" 2>/dev/null | cut -f1 | sed 's/$/ MB/'; }
 fetched() { if [ -n "${RSTS_FETCH_LOG:-}" ]; then echo "$*" >>"$RSTS_FETCH_LOG"; fi; }
 if [ -f "$dest/node_modules/.package-lock.json" ] && cmp -s "$src/package-lock.json" "$dest/package-lock.json"; then
-  fetched "cached: npm packages of scripts/$name in $dest ($(size "$dest"))"
+  fetched "already there: npm packages of scripts/$name in $dest ($(size "$dest"))"
   echo "$dest/node_modules"
   exit 0
 fi
