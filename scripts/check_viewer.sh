@@ -54,9 +54,12 @@ chromium="${RSTS_CHROMIUM:-/usr/bin/chromium}"
 if [ ! -x "$chromium" ]; then
   command -v apt-get >/dev/null 2>&1 || die "$chromium not found and no apt-get to install it (set RSTS_CHROMIUM)"
   say "installing Debian's chromium (apt-get) ..."
+  start=$SECONDS
   as_root env DEBIAN_FRONTEND=noninteractive apt-get update -qq >/dev/null
   as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
   [ -x "$chromium" ] || die "chromium was installed but $chromium is missing (set RSTS_CHROMIUM)"
+  # scripts/test.sh says once what was downloaded, where, and how long it took.
+  [ -z "${RSTS_FETCH_LOG:-}" ] || echo "downloaded: chromium (Debian package, apt-get) into /usr/lib/chromium ($(du -sm /usr/lib/chromium 2>/dev/null | cut -f1) MB, $((SECONDS - start)) s)" >>"$RSTS_FETCH_LOG"
 fi
 
 # 2. The driver (playwright-core) and Foxglove Studio's web build.

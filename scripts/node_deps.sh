@@ -8,6 +8,8 @@
 # file does nothing.
 # Exit status: 0 ready; 3 node or npm is missing; 1 the install failed (e.g. no registry). The
 # reason goes to stderr, so a test can skip with it.
+# With RSTS_FETCH_LOG set (scripts/test.sh), one line is appended to that file saying what was
+# downloaded, where, its size and time, or where the packages already were.
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -24,7 +26,11 @@ for tool in node npm; do
   fi
 done
 dest="${RSTS_NODE_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/rsts/node}/$name"
+# "N MB" of a directory.
+size() { du -sm "$1" 2>/dev/null | cut -f1 | sed 's/$/ MB/'; }
+fetched() { if [ -n "${RSTS_FETCH_LOG:-}" ]; then echo "$*" >>"$RSTS_FETCH_LOG"; fi; }
 if [ -f "$dest/node_modules/.package-lock.json" ] && cmp -s "$src/package-lock.json" "$dest/package-lock.json"; then
+  fetched "already there: npm packages of scripts/$name in $dest ($(size "$dest"))"
   echo "$dest/node_modules"
   exit 0
 fi
@@ -39,4 +45,5 @@ if ! (cd "$dest" && npm ci --no-audit --no-fund --ignore-scripts --loglevel=erro
   exit 1
 fi
 echo "node_deps: done in $(($(date +%s) - start)) s" >&2
+fetched "downloaded: npm packages of scripts/$name (npm registry) into $dest ($(size "$dest"), $(($(date +%s) - start)) s)"
 echo "$dest/node_modules"

@@ -49,6 +49,7 @@ if [ "${#missing[@]}" -gt 0 ]; then
   as_root env DEBIAN_FRONTEND=noninteractive apt-get update -qq >/dev/null
   as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
   echo "setup: installed in $((SECONDS - start)) s" >&2
+  [ -z "${RSTS_FETCH_LOG:-}" ] || echo "downloaded: ${missing[*]} (Debian packages, apt-get; $((SECONDS - start)) s)" >>"$RSTS_FETCH_LOG"
 fi
 
 if [ ! -x "${CARGO_TARGET_DIR:-$root/target}/release/rsts" ]; then
@@ -56,7 +57,7 @@ if [ ! -x "${CARGO_TARGET_DIR:-$root/target}/release/rsts" ]; then
 setup: first build (release): GMP 6.3.0 and MPFR 4.2.2 from the sources bundled in the crate
 setup: gmp-mpfr-sys (configure and make, without their own test suites: the longest step, about
 setup: two minutes; docs/setup.md says why not Debian's libgmp-dev), then about 150 Rust crates.
-setup: Measured on a fresh clone with 2 cores: see "Quick start" in README.md. Later builds take
+setup: Measured on a fresh clone with 2 cores: see docs/setup.md. Later builds take
 setup: seconds.
 MSG
 fi

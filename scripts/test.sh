@@ -11,6 +11,11 @@
 # The Python package's tests (pytest, crates/python/tests) run after cargo's, in .venv-python
 # (scripts/install_python.sh builds the package there); their counts are added to N, M, K. When
 # Python 3 or the packages cannot be had they are one skip, `SKIPPED: python: REASON`.
+# Before the summary: one line per phase with its time (set-up, Python environment, build, cargo
+# tests, Python build, pytest), then what was downloaded and where (said once: the lines the
+# scripts append to $RSTS_FETCH_LOG), then the tests skipped with their reasons.
+# In a run of everything the Python environment (.venv-python: maturin, numpy, pytest, scipy) is
+# made first, so the Rust tests that need numpy or scipy use it too.
 # The exit status is cargo's, or pytest's when cargo's is 0. Every test binary runs even when
 # one fails (--no-fail-fast).
 # Extra arguments go to cargo test; --workspace is added unless they pick packages:
@@ -19,7 +24,28 @@
 set -uo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+work="$(mktemp -d "${TMPDIR:-/tmp}/rsts-test.XXXXXX")"
+trap 'rm -rf "$work"' EXIT
+export RSTS_SKIP_LOG="$work/skipped" RSTS_FETCH_LOG="$work/fetched"
+: >"$RSTS_SKIP_LOG"
+: >"$RSTS_FETCH_LOG"
+
+# "N s" or "M min N s".
+duration() { if [ "$1" -ge 60 ]; then echo "$(($1 / 60)) min $(($1 % 60)) s"; else echo "$1 s"; fi; }
+# phase NAME START WHAT: the line of a phase that began at START (in $SECONDS), said now and again
+# at the end.
+phase() {
+  local line
+  line="$(printf '  %-18s %11s  %s' "$1" "$(duration $((SECONDS - $2)))" "$3")"
+  echo "$line" >>"$work/phases"
+  echo "test.sh: phase done: ${line#  }"
+}
+: >"$work/phases"
+started=$SECONDS
+
+t=$SECONDS
 "$root/scripts/setup.sh" || exit
+phase "set-up" "$t" "scripts/setup.sh: build tools"
 if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"; fi
 cd "$root" || exit
 
@@ -39,42 +65,65 @@ if [ "$pick_packages" = no ]; then
   args=(--workspace --exclude rsts-python "${args[@]}")
 fi
 
-work="$(mktemp -d "${TMPDIR:-/tmp}/rsts-test.XXXXXX")"
-trap 'rm -rf "$work"' EXIT
-export RSTS_SKIP_LOG="$work/skipped"
 # The tests' scratch files (each test process's rsts-*-tests-PID directory, pytest's tmp_path)
 # go under $work and leave with it: a run leaves nothing in the system's temporary directory.
 mkdir "$work/tmp" && export TMPDIR="$work/tmp"
-: >"$RSTS_SKIP_LOG"
 
-start=$SECONDS
-cargo test --release --no-run "${args[@]}"
-status=$?
+# The Python package's tests run in a run of everything (no arguments) or with `-p rsts-python`.
+python=no
+if [ "$#" -eq 0 ] || [[ " $* " == *" rsts-python "* ]]; then python=yes; fi
+py_env=1
+if [ "$python" = yes ]; then
+  t=$SECONDS
+  "$root/scripts/install_python.sh" --env 2>"$work/python-env"
+  py_env=$?
+  if [ "$py_env" -eq 0 ]; then
+    phase "python env" "$t" ".venv-python: maturin, numpy, pytest, scipy"
+  else
+    phase "python env" "$t" "not made: $(tail -n 1 "$work/python-env" | sed 's/^install_python.sh: //')"
+  fi
+fi
+
+t=$SECONDS
+cargo test --release --no-run "${args[@]}" 2>&1 | tee "$work/build"
+status=${PIPESTATUS[0]}
+# cargo says "Downloaded N crates (S MB) in T s" when it fetched crates from crates.io.
+downloaded="$(grep -oE 'Downloaded [0-9]+ crates? \([^)]*\)' "$work/build" | tail -n 1)"
+if [ -n "$downloaded" ]; then
+  echo "downloaded: ${downloaded#Downloaded } (crates.io) into ~/.cargo/registry" >>"$RSTS_FETCH_LOG"
+fi
 if [ "$status" -ne 0 ]; then
   echo "test.sh: the build failed (cargo exit status $status): see above"
   echo "0 passed, 0 failed, 0 skipped"
   exit "$status"
 fi
-if [ $((SECONDS - start)) -ge 10 ]; then
-  echo "test.sh: build took $(((SECONDS - start) / 60)) min $(((SECONDS - start) % 60)) s"
-fi
+phase "build" "$t" "cargo test --release --no-run"
 
+t=$SECONDS
 cargo test --release --no-fail-fast "${args[@]}" 2>&1 | tee "$work/log"
 status=${PIPESTATUS[0]}
+phase "cargo tests" "$t" "$(grep -c '^     Running ' "$work/log") test binaries (the documented examples the longest)"
 
 # The Python package: built by maturin in the same target directory (the crates above are
 # reused), tested against the CLI just built. Only in a run of everything (no arguments) or with
 # `-p rsts-python`.
 py_passed=0 py_failed=0 py_skipped=0
-if [ "$#" -eq 0 ] || [[ " $* " == *" rsts-python "* ]]; then
-  py_start=$SECONDS
-  "$root/scripts/install_python.sh" 2>"$work/python-install"
-  py_install=$?
+if [ "$python" = yes ]; then
+  t=$SECONDS
+  if [ "$py_env" -eq 0 ]; then
+    "$root/scripts/install_python.sh" 2>"$work/python-install"
+    py_install=$?
+  else
+    cp "$work/python-env" "$work/python-install"
+    py_install=$py_env
+  fi
   if [ "$py_install" -eq 0 ]; then
-    echo "test.sh: Python package built and installed in $((SECONDS - py_start)) s"
+    phase "python build" "$t" "pip install ./crates/python (maturin) into .venv-python"
+    t=$SECONDS
     "$root/.venv-python/bin/python" -m pytest -q -rs -p no:cacheprovider "$root/crates/python/tests" \
       2>&1 | tee "$work/pytest"
     py_status=${PIPESTATUS[0]}
+    phase "pytest" "$t" "crates/python/tests"
     last="$(grep -E '(passed|failed|error|skipped)' "$work/pytest" | tail -n 1)"
     count() { echo "$last" | grep -oE "[0-9]+ $1" | grep -oE '[0-9]+' || echo 0; }
     py_passed=$(count passed)
@@ -125,6 +174,16 @@ awk -v skipfile="$RSTS_SKIP_LOG" -v py_passed="$py_passed" -v py_failed="$py_fai
 
 if [ "$status" -ne 0 ]; then
   echo "test.sh: cargo test or pytest exited with status $status (failed tests, a test binary that crashed, or a build error: see above)"
+fi
+echo "test.sh: phases ($(duration $((SECONDS - started))) in all):"
+cat "$work/phases"
+# What was downloaded and where: each line once (a script called by several tests appends it
+# each time).
+if [ -s "$RSTS_FETCH_LOG" ]; then
+  echo "test.sh: downloads (fetched now, or already there from an earlier run):"
+  awk '!seen[$0]++ { print "  " $0 }' "$RSTS_FETCH_LOG"
+else
+  echo "test.sh: downloads: none"
 fi
 if [ -s "$RSTS_SKIP_LOG" ]; then
   echo "test.sh: skipped:"

@@ -2,11 +2,14 @@
 //! closed form along the motion at every sample time; its events and dense output matched
 //! with the exact ones; everything logged to MCAP when asked (`rsts compare`, `rsts.compare`).
 
+use std::path::PathBuf;
+
 use rsts_closed_form::events::EventSpec;
 use rsts_closed_form::{Motion, Times};
 use rsts_dynamics::integrators::dense::StepSamples;
 use rsts_dynamics::integrators::{MethodConfig, Problem, Tolerances};
 use rsts_harness::bench::BenchIntegrator;
+use rsts_harness::compare_diagram;
 use rsts_harness::dense::{dense_of_method, dense_of_samples, DenseReport, MAX_DENSE};
 use rsts_harness::environment::Environment;
 use rsts_harness::events::{events_of_run, EventMatchReport, StateCollector};
@@ -46,6 +49,9 @@ pub struct CompareRequest<'a> {
     /// At most this many calls of a restartable integrator (progress and Ctrl-C between them).
     pub pieces: usize,
     pub mcap: Option<Mcap>,
+    /// A diagram of the state error and the drifts of H, K, G against time, written as SVG
+    /// (`rsts compare --svg`): checked before the run, written after it.
+    pub svg: Option<PathBuf>,
     pub limits: Limits,
 }
 
@@ -160,6 +166,7 @@ pub fn compare(
         dense,
         pieces,
         mcap,
+        svg,
         limits,
     } = request;
     if times.len() > MAX_SAMPLES {
@@ -202,6 +209,22 @@ pub fn compare(
             .map(|f| ("exec", f.as_path()))
             .collect();
         check_log(&log.path, Some(times.len()), samples_name(&times), &inputs)?;
+    }
+    if let Some(path) = &svg {
+        let files = match &mcap {
+            Some(Mcap {
+                command: Some(c), ..
+            }) => rsts_external::command_files(c),
+            _ => Vec::new(),
+        };
+        compare_diagram::check_output(
+            path,
+            times.len(),
+            mcap.as_ref().map(|m| m.path.as_path()),
+            &files,
+        )
+        // The message names the options (`--svg`, `--mcap`, `--exec`) itself.
+        .map_err(|e| FlowError::input(&[], rsts_io::error_text(&e)))?;
     }
     match &mut method {
         Method::Builtin(_) => {
@@ -256,9 +279,11 @@ pub fn compare(
     };
     let mut logged = Logged::new(log, observer);
     let options = CompareOptions { pieces };
-    let mut collector = StateCollector::new(&mut logged);
+    let mut recorder = compare_diagram::Recorder::new(&mut logged, times.len());
+    let mut collector = StateCollector::new(&mut recorder);
     let result = compare_at(&motion, &times, integrator, &options, &mut collector);
     let (sample_times, states) = (collector.times, collector.states);
+    let series = recorder.series;
     let mut environment = Environment::detect();
     environment.record(integrator);
     let report = match result {
@@ -302,6 +327,11 @@ pub fn compare(
     };
     let log = logged.finish()?;
     check_finite_report(&report)?;
+    if let Some(path) = &svg {
+        compare_diagram::write_svg(path, &motion, &report, &series).map_err(|e| {
+            FlowError::Output(format!("{}: {}", path.display(), rsts_io::error_text(&e)))
+        })?;
+    }
     let verdict = Verdict::from_reasons(
         events
             .as_ref()

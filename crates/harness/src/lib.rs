@@ -25,6 +25,7 @@ mod case;
 pub mod check;
 mod check_stream;
 mod compare;
+pub mod compare_diagram;
 pub mod convergence;
 pub mod dense;
 pub mod detected;

@@ -82,6 +82,7 @@ impl Series {
 /// A chart.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chart {
+    /// The title above the frame; a second line after `\n` is a subtitle in smaller type.
     pub title: String,
     pub x_label: String,
     pub y_label: String,

@@ -116,7 +116,13 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
                 .max()
                 .unwrap_or(0) as f64
     };
-    let (left, top, bottom) = (84.0, 44.0, 58.0);
+    // A title of two lines (`"title\nsubtitle"`): the second in smaller type under the first.
+    let (title, subtitle) = match chart.title.split_once('\n') {
+        Some((t, sub)) => (t, Some(sub)),
+        None => (chart.title.as_str(), None),
+    };
+    let (left, bottom) = (84.0, 58.0);
+    let top = if subtitle.is_some() { 62.0 } else { 44.0 };
     let right = 20.0
         + if legend.is_empty() {
             0.0
@@ -141,8 +147,16 @@ pub fn render_svg(chart: &Chart) -> Result<String, PlotError> {
         s,
         r#"<text x="{:.1}" y="26" text-anchor="middle" font-size="15" font-weight="bold">{}</text>"#,
         left + pw / 2.0,
-        escape(&chart.title)
+        escape(title)
     );
+    if let Some(sub) = subtitle {
+        let _ = writeln!(
+            s,
+            r##"<text class="subtitle" x="{:.1}" y="45" text-anchor="middle" font-size="12.5" fill="#333">{}</text>"##,
+            left + pw / 2.0,
+            escape(sub)
+        );
+    }
     // Grid at the major ticks; short marks at all ticks.
     let _ = writeln!(s, r##"<g stroke="#e3e3e3" stroke-width="1">"##);
     for t in xt.iter().filter(|t| t.major) {

@@ -195,3 +195,25 @@ fn non_positive_values_are_dropped_on_log_axes_and_empty_charts_are_errors() {
     small.width = 10;
     assert!(render_svg(&small).is_err());
 }
+
+#[test]
+fn a_second_title_line_is_a_subtitle_and_the_frame_moves_down_for_it() {
+    let series = vec![Series::new("s", vec![(0.0, 1.0), (1.0, 2.0)], Style::Line)];
+    let one = render_svg(&chart(series.clone(), Scale::Linear, Scale::Linear)).unwrap();
+    let mut c = chart(series, Scale::Linear, Scale::Linear);
+    c.title = "main <t>\nthe motion & more".into();
+    let two = render_svg(&c).unwrap();
+    assert!(two.contains(">main &lt;t&gt;</text>"), "{two}");
+    assert_eq!(
+        attrs(&two, r#"class="subtitle""#, "y"),
+        ["45"],
+        "one subtitle line"
+    );
+    assert!(two.contains(">the motion &amp; more</text>"));
+    assert!(!one.contains("subtitle"));
+    let frame_top = |svg: &str| num(svg, r##"fill="none" stroke="#444""##, "y")[0];
+    assert!(
+        frame_top(&two) > frame_top(&one) + 10.0,
+        "the frame starts below the subtitle"
+    );
+}

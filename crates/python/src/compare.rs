@@ -290,6 +290,7 @@ pub fn compare<'py>(
             dense,
             pieces,
             mcap: None,
+            svg: None,
             limits: Limits::default(),
         };
         let result = rsts_flows::compare::compare(request, &mut watch);

@@ -25,6 +25,9 @@ Examples:
   # the built-in default case: camera I+ (a=1, b=0.5, m=0.3, h=-0.375), T=100, 1001 samples, dop853 at 1e-12
   rsts compare --mcap out/compare.mcap
 
+  # the state error and the drifts of H, K, G against time, as a picture (what scripts/run.sh draws)
+  rsts compare --svg out/compare.svg
+
   # a loose Dopri5 run in camera V on its third torus, JSON report
   rsts compare --m -0.7092 --h 1.5643 --torus 2 --method dopri5 --rtol 1e-6 --atol 1e-6 --format json
 
@@ -85,6 +88,9 @@ pub struct Args {
     /// Write the comparison to this MCAP file (Foxglove schemas)
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
+    /// Draw the state error and the drifts of H, K, G against time (log scale) as SVG
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
     /// Output format of the report (csv: one header line and one row, the JSON fields flattened)
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
@@ -120,6 +126,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             path: path.clone(),
             command: args.exec.clone(),
         }),
+        svg: args.svg.clone(),
         limits: Limits {
             max_event_error: args.max_event_error,
             ..Limits::default()
@@ -150,6 +157,12 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         }
     }
     log_note(outcome.mcap.as_deref(), outcome.log);
+    if let Some(svg) = &args.svg {
+        eprintln!(
+            "SVG: {}: the state error and the drifts of H, K, G against time.",
+            svg.display()
+        );
+    }
     if let Some(what) = outcome.stopped() {
         out.flush()?;
         return Err(Interrupted(format!(

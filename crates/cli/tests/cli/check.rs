@@ -506,26 +506,13 @@ fn reference_writes_any_times_in_every_format() {
 }
 
 /// An npy file written by numpy itself (`numpy.save`, from the CSV of `rsts integrate`) is read
-/// like the CSV. Needs numpy (scripts/install_adapters.sh scipy); skipped otherwise.
+/// like the CSV. Needs numpy (`common::python_with`); skipped otherwise.
 #[test]
 fn an_npy_written_by_numpy_is_read_like_the_csv() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let python = std::env::var("RSTS_ADAPTERS_PYTHON").unwrap_or_else(|_| {
-        root.join(".venv-adapters/bin/python")
-            .to_string_lossy()
-            .into_owned()
-    });
-    let has_numpy = std::process::Command::new(&python)
-        .args(["-c", "import numpy"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !has_numpy {
-        rsts_io::report_skip(
-            "an_npy_written_by_numpy_is_read_like_the_csv",
-            "numpy is not installed (scripts/install_adapters.sh scipy)",
-        );
+    let Some(python) = common::python_with("numpy", "an_npy_written_by_numpy_is_read_like_the_csv")
+    else {
         return;
-    }
+    };
     let (csv, _) = integrate(&V, &[]);
     let csv_file = write("numpy-src.csv", csv.as_bytes());
     let npy = tmp("numpy.npy");

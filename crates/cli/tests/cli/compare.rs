@@ -243,3 +243,51 @@ fn bad_input_is_named() {
     assert!(err(&["--method", "taylor-mp", "--digits", "3"]).contains("--digits"));
     assert!(err(&["--mcap", "/proc/nope/x.mcap", "--samples", "3"]).contains("--mcap"));
 }
+
+#[test]
+fn svg_draws_the_errors_against_time_and_bad_paths_are_refused_before_work() {
+    let path = tmp("sub/errors.svg");
+    let p = path.to_str().unwrap();
+    let out = rsts(&[
+        "compare",
+        "--t-end",
+        "10",
+        "--samples",
+        "101",
+        "--format",
+        "json",
+        "--svg",
+        p,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // stdout is the report alone; the SVG is named on stderr.
+    let v: Value = serde_json::from_slice(&out.stdout).expect("JSON report");
+    assert_eq!(v["samples_compared"], 101);
+    assert!(String::from_utf8_lossy(&out.stderr).contains(p));
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert!(svg.starts_with("<svg") || svg.starts_with("<?xml"));
+    for text in [
+        "dop853 at rtol = atol = 1e-12 against the exact motion",
+        "camera I+: a = 1, b = 0.5, m = 0.3, h = −0.375, torus 0",
+        "time t",
+        "state error",
+        "drift of H",
+        "drift of K",
+        "drift of G",
+    ] {
+        assert!(svg.contains(text), "missing {text:?}");
+    }
+
+    let err = |args: &[&str]| exit_2(&rsts_command("compare", args), args);
+    assert!(err(&["--samples", "1", "--svg", p]).contains("at least 2 samples"));
+    assert!(err(&["--svg", "/proc/nope/x.svg", "--samples", "3"]).contains("--svg"));
+    let same = tmp("same.out");
+    let same = same.to_str().unwrap();
+    let msg = err(&["--samples", "3", "--svg", same, "--mcap", same]);
+    assert!(msg.contains("--svg") && msg.contains("--mcap"), "{msg}");
+    assert!(!std::path::Path::new(same).exists());
+}

@@ -809,7 +809,16 @@ fn d07_reference_and_check_at_a_huge_time_follow_the_motion() {
     // The motion given: the rows at t = 1e300 are the motion's. (Identified from an f64 first
     // row, the motion is known to ~1e-17 only: at t = 1e300 its phase is unknown, so the
     // identified variant is not asked to follow it.)
-    let args = vec!["check", s(&traj), "--format", "json", "--m", "0.3", "--h", "-0.375"];
+    let args = vec![
+        "check",
+        s(&traj),
+        "--format",
+        "json",
+        "--m",
+        "0.3",
+        "--h",
+        "-0.375",
+    ];
     let c = json(&args);
     let err = c["max_state_error"].as_f64().unwrap();
     assert!(err < 1e-12, "{args:?}: max state error {err:e}");

@@ -4,6 +4,7 @@
 
 mod check_f64;
 mod compare;
+mod compare_diagram;
 mod dd_paths;
 mod drift_growth;
 mod ensemble;

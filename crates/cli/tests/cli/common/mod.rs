@@ -159,28 +159,52 @@ pub fn adapter_rk4() -> PathBuf {
     dir.join("release/example-adapter-rk4")
 }
 
-/// The Python of scripts/install_adapters.sh when it has `package` (`$RSTS_ADAPTERS_PYTHON` or
-/// `.venv-adapters/bin/python`); `None` (the test reports a skip) otherwise.
+/// A Python that has `package`: `$RSTS_ADAPTERS_PYTHON` when set, else the first of
+/// `.venv-adapters` (scripts/install_adapters.sh) and `.venv-python` (scripts/install_python.sh,
+/// which scripts/test.sh makes before the tests: numpy and scipy) that has it; `None` (the test
+/// reports a skip naming the interpreters it tried) otherwise.
 pub fn python_with(package: &str, test: &str) -> Option<String> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let python = std::env::var("RSTS_ADAPTERS_PYTHON").unwrap_or_else(|_| {
-        root.join(".venv-adapters/bin/python")
-            .to_string_lossy()
-            .into_owned()
-    });
-    let ok = Command::new(&python)
-        .args(["-c", &format!("import {package}")])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if ok {
-        Some(python)
-    } else {
-        rsts_io::report_skip(
-            test,
-            &format!("{package} is not installed (scripts/install_adapters.sh {package}; needs pip and PyPI)"),
-        );
-        None
+    // The checkout: crates/cli's grandparent.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .ancestors()
+        .nth(2)
+        .unwrap();
+    let candidates: Vec<String> = match std::env::var("RSTS_ADAPTERS_PYTHON") {
+        Ok(python) => vec![python],
+        Err(_) => [".venv-adapters", ".venv-python"]
+            .iter()
+            .map(|venv| {
+                root.join(venv)
+                    .join("bin/python")
+                    .to_string_lossy()
+                    .into_owned()
+            })
+            .collect(),
+    };
+    let has = |python: &String| {
+        Command::new(python)
+            .args(["-c", &format!("import {package}")])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    if let Some(python) = candidates.iter().find(|p| has(p)) {
+        return Some(python.clone());
     }
+    let tried: Vec<String> = candidates
+        .iter()
+        .map(|p| match Path::new(p).exists() {
+            true => p.clone(),
+            false => format!("{p} (absent)"),
+        })
+        .collect();
+    rsts_io::report_skip(
+        test,
+        &format!(
+            "{package} cannot be imported by {} (scripts/install_adapters.sh {package}; needs pip and PyPI)",
+            tried.join(" nor ")
+        ),
+    );
+    None
 }
 
 pub fn adapter_command(python: &str, script: &str, arg: &str) -> String {
