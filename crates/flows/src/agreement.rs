@@ -335,11 +335,13 @@ fn assert_identifies(motion: &Motion, state: &[String], at_start: bool, what: &s
             "{what}: {name} = {} for {exact}",
             value_text(x40)
         );
-        assert_eq!(
-            x64.as_f64().unwrap(),
-            exact.to_f64(),
-            "{what}: {name} in f64"
-        );
+        let x = x64.as_f64().unwrap();
+        if exact.to_f64() == 0.0 {
+            // A phase of 0 is known to the state's digits (45) only: its f64 is within them.
+            assert!(x.abs() < 1e-30, "{what}: {name} in f64: {x:e}");
+        } else {
+            assert_eq!(x, exact.to_f64(), "{what}: {name} in f64");
+        }
     }
 }
 
