@@ -446,8 +446,9 @@ fn pass(
     finish(report, survey.rows, logged, settings).map(|o| Pass::Done(Box::new(o)))
 }
 
-/// A check of arrays: f64 data (at most 16 digits) in double-double, a chunk at a time, as a
-/// file's; at more digits their exact values at the reference precision, a chunk at a time.
+/// A check of arrays: f64 data, a chunk at a time, as a file's f64 data are checked (in
+/// double-double at most 16 digits; at more, their exact values widened to the reference
+/// precision a part at a time, [`rsts_harness::CheckStream::feed_f64`]).
 fn arrays(
     request: &mut rsts_harness::CheckRequest,
     times: &[f64],
@@ -464,31 +465,43 @@ fn arrays(
     if times.is_empty() {
         return Err(FlowError::input(&["times"], "no samples to check"));
     }
+    // Every value is checked before any is analysed, as a file's are while it is read.
+    if let Some(why) = array_states_error(times, states) {
+        return Err(FlowError::input(&["states"], why));
+    }
     request.digits = settings.digits.unwrap_or(15);
     let bits = request.reference_bits();
     let wide = |x: &f64| Float::with_val(bits, *x);
     let extent = times.iter().fold(0.0, |m: f64, t| m.max(t.abs()));
+    // f64 data: the flow of a file's f64 rows, whatever the digits asked.
     let state0 = State::from_slice(&states[0].each_ref().map(wide));
     let (mut stream, log) = start(request, &wide(&times[0]), &state0, extent, settings.mcap)?;
     observer.start_pass(Some(times.len()));
     let mut logged = Logged::new(log, observer);
     for (t, s) in times.chunks(CHUNK_ROWS).zip(states.chunks(CHUNK_ROWS)) {
-        let more = if request.digits <= 16 {
-            stream.feed_f64(t, s, &mut logged)?
-        } else {
-            let ts: Vec<Float> = t.iter().map(wide).collect();
-            let ss: Vec<State<Float>> = s
-                .iter()
-                .map(|x| State::from_slice(&x.each_ref().map(wide)))
-                .collect();
-            stream.feed(&ts, &ss, &mut logged)?
-        };
-        if !more {
+        if !stream.feed_f64(t, s, &mut logged)? {
             break;
         }
     }
     let report = stream.finish();
     finish(report, Some(times.len()), logged, settings).map(|o| Pass::Done(Box::new(o)))
+}
+
+/// States given as arrays (by a face, a library caller, a Python integrator's answer), refused
+/// as a file's values are ([`rsts_external::check_f64_states`]: not finite, or |x| > 10⁸): the
+/// place of the first bad one — its row (0-based, as the arrays index it) with the row's time,
+/// and its column — and why; `None` when every value may be analysed.
+pub fn array_states_error(times: &[f64], states: &[[f64; 9]]) -> Option<String> {
+    let bad = rsts_external::check_f64_states(states).err()?;
+    let at = times
+        .get(bad.row)
+        .map_or(String::new(), |t| format!(" (t = {t})"));
+    Some(format!(
+        "row {}{at}, {}: {}",
+        bad.row,
+        rsts_external::COLUMNS[bad.column + 1],
+        bad.why
+    ))
 }
 
 /// The outcome of a check whose samples were all fed: the log finished, the report checked,
