@@ -30,6 +30,14 @@ fn float_array<R>(
     what: &str,
     read: impl FnOnce(&[usize], &mut dyn Iterator<Item = f64>) -> PyResult<R>,
 ) -> PyResult<R> {
+    let arr = float64(obj, what)?;
+    let ro = arr.readonly();
+    let view = ro.as_array();
+    read(view.shape(), &mut view.iter().copied())
+}
+
+/// `obj` as a float64 numpy array (itself when it is one).
+fn float64<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let py = obj.py();
     let np = py.import("numpy")?;
     let arr = np.call_method1("asarray", (obj,)).map_err(|e| {
@@ -50,10 +58,51 @@ fn float_array<R>(
     let kwargs = pyo3::types::PyDict::new(py);
     kwargs.set_item("copy", false)?;
     let arr = arr.call_method("astype", ("float64",), Some(&kwargs))?;
-    let arr = arr.cast::<PyArrayDyn<f64>>().map_err(PyErr::from)?;
-    let ro = arr.readonly();
-    let view = ro.as_array();
-    read(view.shape(), &mut view.iter().copied())
+    arr.cast_into::<PyArrayDyn<f64>>().map_err(PyErr::from)
+}
+
+/// Rows of states, shape (`rows`, 9), read a chunk at a time where they are by the flow of
+/// `rsts.check` ([`rsts_flows::check::StateRows`]): a float64 array is not copied whole (a list
+/// is made one first). The flow checks the values.
+pub(crate) struct NumpyRows {
+    array: Py<PyArrayDyn<f64>>,
+    rows: usize,
+}
+
+/// `obj` as [`NumpyRows`] of shape (`rows`, 9), or ValueError naming `what`.
+pub(crate) fn state_rows(obj: &Bound<'_, PyAny>, what: &str, rows: usize) -> PyResult<NumpyRows> {
+    let array = float64(obj, what)?;
+    let shape = array.shape().to_vec();
+    if shape.len() != 2 || shape[1] != 9 || shape[0] != rows {
+        return Err(PyValueError::new_err(format!(
+            "{what}: expected shape ({rows}, 9) (one row of omega, alpha, beta per time), got shape {shape:?}"
+        )));
+    }
+    Ok(NumpyRows {
+        array: array.unbind(),
+        rows,
+    })
+}
+
+impl rsts_flows::check::StateRows for NumpyRows {
+    fn rows(&self) -> usize {
+        self.rows
+    }
+
+    fn read(&mut self, start: usize, out: &mut [[f64; 9]]) -> Result<(), rsts_flows::FlowError> {
+        Python::attach(|py| {
+            let array = self.array.bind(py).try_readonly().map_err(|e| {
+                rsts_flows::FlowError::input(&["states"], format!("cannot read the array: {e}"))
+            })?;
+            let view = array.as_array();
+            for (k, row) in out.iter_mut().enumerate() {
+                for (c, x) in row.iter_mut().enumerate() {
+                    *x = view[[start + k, c]];
+                }
+            }
+            Ok(())
+        })
+    }
 }
 
 /// A 1-D array of finite numbers.
@@ -120,7 +169,7 @@ pub(crate) fn states(
         Ok(out)
     })?;
     // Refused as the CLI refuses a file's values: not finite, or beyond 1e8.
-    if let Some(why) = rsts_flows::check::array_states_error(times.unwrap_or(&[]), &rows) {
+    if let Some(why) = rsts_flows::check::array_states_error(0, times.unwrap_or(&[]), &rows) {
         return Err(PyValueError::new_err(format!("{what}: {why}")));
     }
     Ok(rows)

@@ -182,10 +182,10 @@ pub fn check<'py>(
         (None, Some(states)) => {
             let t = arrays::vector(source, "times")?;
             check_times(&t).map_err(|e| value_error(&["times"], e))?;
-            let x = arrays::states(states, "states", Some(t.len()), Some(&t))?;
+            let x = arrays::state_rows(states, "states", t.len())?;
             Source::Arrays {
                 times: t,
-                states: x,
+                states: Box::new(x),
                 name: name.to_string(),
             }
         }
