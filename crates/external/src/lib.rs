@@ -26,5 +26,5 @@ pub use exec::{
     DEFAULT_TIMEOUT_SECONDS, MAX_TIMEOUT_SECONDS, PROTOCOL,
 };
 pub use files::{npy_bytes, npy_header, parse_trajectory, read_trajectory, FileFormat, COLUMNS};
-pub use samples::{Number, RawTrajectory, Samples};
+pub use samples::{check_f64_states, BadComponent, Number, RawTrajectory, Samples};
 pub use stream::{check_rest, check_rest_f64, F64Chunk, RestF64, Survey, TrajectoryReader};

@@ -143,6 +143,35 @@ pub fn check_component(n: Number) -> Result<Number, String> {
     Ok(n)
 }
 
+/// A state component of f64 rows that data read from outside may not hold: its row and column
+/// (0-based; columns ω₁..β₃ in the order of a row) and why ([`check_f64`], [`check_component`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BadComponent {
+    pub row: usize,
+    pub column: usize,
+    pub why: String,
+}
+
+/// The first component of `states` (rows of ω, α, β as f64) that a trajectory read from outside
+/// may not hold — not finite, or beyond [`rsts_dynamics::state::MAX_COMPONENT`] — checked by the
+/// rule of every file reader and adapter answer ([`check_f64`], then [`check_component`]): the
+/// same refusal for arrays given to a library flow and a Python integrator's answers.
+pub fn check_f64_states(states: &[[f64; 9]]) -> Result<(), BadComponent> {
+    let max = rsts_dynamics::state::MAX_COMPONENT;
+    for (row, s) in states.iter().enumerate() {
+        // The common case in one test per row; the message from the readers' own checks.
+        if s.iter().all(|x| x.abs() <= max) {
+            continue;
+        }
+        for (column, &x) in s.iter().enumerate() {
+            if let Err(why) = check_f64(x).and_then(check_component) {
+                return Err(BadComponent { row, column, why });
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Check an f64 value.
 pub fn check_f64(x: f64) -> Result<Number, String> {
     if x.is_finite() {
@@ -398,6 +427,30 @@ mod tests {
         }
         assert!(check_text(" -1.5e-3 ").is_ok());
         assert!(check_f64(f64::NAN).is_err());
+    }
+
+    /// The first component beyond the bound or not finite, by row then column; 1e8 itself is
+    /// held.
+    #[test]
+    fn states_beyond_the_bound_are_named_by_row_and_column() {
+        let mut states = vec![[0.5; 9]; 4];
+        states[1][8] = -1e8;
+        assert_eq!(check_f64_states(&states), Ok(()));
+        states[2][3] = 1e200;
+        states[3][0] = f64::NAN;
+        let bad = check_f64_states(&states).unwrap_err();
+        assert_eq!((bad.row, bad.column), (2, 3));
+        assert!(
+            bad.why.contains("1e200 is outside the range"),
+            "{}",
+            bad.why
+        );
+        states[2][3] = 0.0;
+        let bad = check_f64_states(&states).unwrap_err();
+        assert_eq!(
+            (bad.row, bad.column, bad.why.as_str()),
+            (3, 0, "NaN is not a finite number")
+        );
     }
 
     /// Short texts are the f64 they print; a long text makes the whole file exact.

@@ -38,12 +38,32 @@ pub enum Source {
         format: FileFormat,
     },
     /// Samples in memory: times (strictly increasing) and the states (ω, α, β) at them, as
-    /// f64 values (their exact binary values); `name` is the report's `method`.
+    /// f64 values (their exact binary values), read a chunk at a time where they are (a face's
+    /// arrays are not copied whole); `name` is the report's `method`.
     Arrays {
         times: Vec<f64>,
-        states: Vec<[f64; 9]>,
+        states: Box<dyn StateRows>,
         name: String,
     },
+}
+
+/// Rows of f64 states (ω, α, β) handed to the flow a chunk at a time: a `Vec`, or a face's
+/// arrays read where they are (Python's numpy array).
+pub trait StateRows: Send {
+    /// Rows in all.
+    fn rows(&self) -> usize;
+    /// Rows `start..start + out.len()` into `out`.
+    fn read(&mut self, start: usize, out: &mut [[f64; 9]]) -> Result<(), FlowError>;
+}
+
+impl StateRows for Vec<[f64; 9]> {
+    fn rows(&self) -> usize {
+        self.len()
+    }
+    fn read(&mut self, start: usize, out: &mut [[f64; 9]]) -> Result<(), FlowError> {
+        out.copy_from_slice(&self[start..start + out.len()]);
+        Ok(())
+    }
 }
 
 /// Events an integrator detected, to be matched with the exact ones.
@@ -254,8 +274,15 @@ pub fn check(
             }
         }
         Source::Arrays { times, states, .. } => {
+            let mut states = states;
             let done = on(pool, || {
-                arrays(&mut harness_request, &times, &states, &settings, observer)
+                arrays(
+                    &mut harness_request,
+                    &times,
+                    &mut *states,
+                    &settings,
+                    observer,
+                )
             })?;
             match done {
                 Pass::Done(outcome) => outcome,
@@ -446,49 +473,78 @@ fn pass(
     finish(report, survey.rows, logged, settings).map(|o| Pass::Done(Box::new(o)))
 }
 
-/// A check of arrays: f64 data (at most 16 digits) in double-double, a chunk at a time, as a
-/// file's; at more digits their exact values at the reference precision, a chunk at a time.
+/// A check of arrays: f64 data, a chunk at a time, as a file's f64 data are checked (in
+/// double-double at most 16 digits; at more, their exact values widened to the reference
+/// precision a part at a time, [`rsts_harness::CheckStream::feed_f64`]).
 fn arrays(
     request: &mut rsts_harness::CheckRequest,
     times: &[f64],
-    states: &[[f64; 9]],
+    states: &mut dyn StateRows,
     settings: &Settings<'_>,
     observer: &mut (dyn Progress + Send),
 ) -> Result<Pass, FlowError> {
-    if times.len() != states.len() {
+    if times.len() != states.rows() {
         return Err(FlowError::input(
             &["times", "states"],
-            format!("{} times and {} states", times.len(), states.len()),
+            format!("{} times and {} states", times.len(), states.rows()),
         ));
     }
     if times.is_empty() {
         return Err(FlowError::input(&["times"], "no samples to check"));
     }
+    // Every value is checked before any is analysed (a pass of its own, a chunk at a time), as
+    // a file's are while it is read.
+    let mut chunk = vec![[0.0; 9]; CHUNK_ROWS.min(times.len())];
+    for (k, t) in times.chunks(CHUNK_ROWS).enumerate() {
+        let start = k * CHUNK_ROWS;
+        let rows = &mut chunk[..t.len()];
+        states.read(start, rows)?;
+        if let Some(why) = array_states_error(start, t, rows) {
+            return Err(FlowError::input(&["states"], why));
+        }
+    }
+    states.read(0, &mut chunk[..1])?;
+    let state0 = chunk[0];
     request.digits = settings.digits.unwrap_or(15);
     let bits = request.reference_bits();
     let wide = |x: &f64| Float::with_val(bits, *x);
     let extent = times.iter().fold(0.0, |m: f64, t| m.max(t.abs()));
-    let state0 = State::from_slice(&states[0].each_ref().map(wide));
+    let state0 = State::from_slice(&state0.each_ref().map(wide));
     let (mut stream, log) = start(request, &wide(&times[0]), &state0, extent, settings.mcap)?;
     observer.start_pass(Some(times.len()));
     let mut logged = Logged::new(log, observer);
-    for (t, s) in times.chunks(CHUNK_ROWS).zip(states.chunks(CHUNK_ROWS)) {
-        let more = if request.digits <= 16 {
-            stream.feed_f64(t, s, &mut logged)?
-        } else {
-            let ts: Vec<Float> = t.iter().map(wide).collect();
-            let ss: Vec<State<Float>> = s
-                .iter()
-                .map(|x| State::from_slice(&x.each_ref().map(wide)))
-                .collect();
-            stream.feed(&ts, &ss, &mut logged)?
-        };
-        if !more {
+    // f64 data: the flow of a file's f64 rows, whatever the digits asked.
+    for (k, t) in times.chunks(CHUNK_ROWS).enumerate() {
+        let s = &mut chunk[..t.len()];
+        states.read(k * CHUNK_ROWS, s)?;
+        // Again as analysed (a face's arrays may have been changed since).
+        if let Some(why) = array_states_error(k * CHUNK_ROWS, t, s) {
+            return Err(FlowError::input(&["states"], why));
+        }
+        if !stream.feed_f64(t, s, &mut logged)? {
             break;
         }
     }
     let report = stream.finish();
     finish(report, Some(times.len()), logged, settings).map(|o| Pass::Done(Box::new(o)))
+}
+
+/// States given as arrays (by a face, a library caller, a Python integrator's answer), refused
+/// as a file's values are ([`rsts_external::check_f64_states`]: not finite, or |x| > 10⁸): the
+/// place of the first bad one — its row (0-based, as the arrays index it; `states` and `times`
+/// start at row `first`) with the row's time, and its column — and why; `None` when every value
+/// may be analysed.
+pub fn array_states_error(first: usize, times: &[f64], states: &[[f64; 9]]) -> Option<String> {
+    let bad = rsts_external::check_f64_states(states).err()?;
+    let at = times
+        .get(bad.row)
+        .map_or(String::new(), |t| format!(" (t = {t})"));
+    Some(format!(
+        "row {}{at}, {}: {}",
+        first + bad.row,
+        rsts_external::COLUMNS[bad.column + 1],
+        bad.why
+    ))
 }
 
 /// The outcome of a check whose samples were all fed: the log finished, the report checked,

@@ -125,6 +125,17 @@ pub fn cmp(a: &Decimal, b: &Decimal) -> Ordering {
     }
 }
 
+/// Check the number of times given (at most [`MAX_SAMPLES`]): a face checks it before it copies
+/// them (a list of 10⁸ times is refused before its 800 MB are made).
+pub fn check_count(n: usize) -> Result<(), String> {
+    if n > MAX_SAMPLES {
+        return Err(format!(
+            "at most {MAX_SAMPLES} times are supported, got {n}"
+        ));
+    }
+    Ok(())
+}
+
 /// Check times: at least one, at most [`MAX_SAMPLES`], finite, strictly increasing; a grid
 /// with T ≥ 0 and N ≥ 1. The message names no option (a face puts its own in front).
 pub fn check(times: &Times) -> Result<(), String> {
@@ -142,11 +153,7 @@ pub fn check(times: &Times) -> Result<(), String> {
     if n == 0 {
         return Err("no times".into());
     }
-    if n > MAX_SAMPLES {
-        return Err(format!(
-            "at most {MAX_SAMPLES} times are supported, got {n}"
-        ));
-    }
+    check_count(n)?;
     match times {
         Times::Binary(v) => rsts_harness::reference::check_times(v),
         Times::Decimals(v) => {

@@ -350,7 +350,15 @@ impl Analysis {
         let mut first = None;
         // One buffer per chunk, kept for every batch (no allocation per batch).
         let mut evaluated: Vec<Vec<Evaluated>> = Vec::new();
-        for (tc, sc) in times.chunks(BATCH).zip(states.chunks(BATCH)) {
+        // MPFR samples (each evaluated alone: the batches change no digit) in batches that take
+        // about the same time at any precision — 52 samples at 3000 digits, 15 at 10000 — so
+        // that a stop asked (Ctrl-C) is seen within a fraction of a second.
+        let batch = match chunk {
+            1 => (BATCH * 128 / (self.bits as usize).max(1))
+                .clamp(rayon::current_num_threads(), BATCH),
+            _ => BATCH,
+        };
+        for (tc, sc) in times.chunks(batch).zip(states.chunks(batch)) {
             if observer.should_stop() {
                 self.mark_incomplete();
                 break;

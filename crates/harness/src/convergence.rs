@@ -300,6 +300,16 @@ pub fn convergence(
     plan: &ConvergencePlan,
     methods: &mut [&mut dyn FixedStepIntegrator],
 ) -> Result<ConvergenceReport, HarnessError> {
+    convergence_until(plan, methods, &mut || false)
+}
+
+/// [`convergence`], asking `stop` before every run (each method at each step): when it says
+/// true the work ends with [`HarnessError::Observer`] (a face's Ctrl-C).
+pub fn convergence_until(
+    plan: &ConvergencePlan,
+    methods: &mut [&mut dyn FixedStepIntegrator],
+    stop: &mut dyn FnMut() -> bool,
+) -> Result<ConvergenceReport, HarnessError> {
     let bits = methods
         .iter()
         .map(|m| reference_bits_for(m.working_bits()))
@@ -319,6 +329,9 @@ pub fn convergence(
         let mut changed = false;
         let mut mine = Vec::new();
         for &h in &plan.steps {
+            if stop() {
+                return Err(HarnessError::Observer("interrupted".into()));
+            }
             let traj = method
                 .integrate_at(h, &problem, reference.times())
                 .map_err(|e| {

@@ -61,7 +61,7 @@ pub use compare::{
     DEFAULT_PIECES, REFERENCE_GUARD_BITS,
 };
 pub use convergence::{
-    convergence, fit_order, ConvergencePlan, ConvergenceReport, ConvergenceRow,
+    convergence, convergence_until, fit_order, ConvergencePlan, ConvergenceReport, ConvergenceRow,
     FixedStepIntegrator, FixedStepMethod, OrderFit,
 };
 pub use digits::CorrectDigits;

@@ -7,7 +7,7 @@ use rsts_dynamics::integrators::{MethodName, Tolerances};
 use rsts_harness::bench::{BenchIntegrator, BenchObserver, OutsideMethod};
 use rsts_harness::{BenchMethod, BenchRequest, HarnessError};
 
-use crate::case::{whole, Case};
+use crate::case::{int, whole, Case, Int};
 use crate::compare::{finish_harness, Callable};
 use crate::{arrays, report_dict, value_error, Interrupts};
 
@@ -70,7 +70,7 @@ impl BenchObserver for Watch {
 /// (between runs).
 #[pyfunction]
 #[pyo3(
-    signature = (integrators, case = None, tolerances = vec![1e-6, 1e-8, 1e-10], t_end = 100.0, samples = 101, repeats = 3, digits = None),
+    signature = (integrators, case = None, tolerances = vec![1e-6, 1e-8, 1e-10], t_end = 100.0, samples = Int::of(101), repeats = Int::of(3), digits = None),
     text_signature = "(integrators, case=None, tolerances=(1e-06, 1e-08, 1e-10), t_end=100.0, samples=101, repeats=3, digits=None)"
 )]
 #[allow(clippy::too_many_arguments)]
@@ -80,10 +80,11 @@ pub fn bench<'py>(
     case: Option<Case>,
     tolerances: Vec<f64>,
     t_end: f64,
-    samples: i64,
-    repeats: i64,
-    digits: Option<i64>,
+    samples: Int,
+    repeats: Int,
+    digits: Option<Int>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let digits = int("digits", digits)?;
     let case = Case::or_default(case)?;
     let samples = whole("samples", samples)?;
     let repeats = whole("repeats", repeats)?;

@@ -1,7 +1,7 @@
 //! `rsts.Case`: a motion on N (a, b, m, h, torus, phases), checked as the CLI checks it, and its
 //! exact reference at any times (`rsts reference`).
 
-use pyo3::exceptions::{PyRuntimeError, PyTypeError};
+use pyo3::exceptions::{PyOverflowError, PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyInt, PyList, PyString, PyTuple};
 use rsts_closed_form::{Decimal, Motion};
@@ -32,8 +32,54 @@ pub struct Case {
     camera: String,
 }
 
+/// A whole-number argument as Python gives it: an int of any size. One beyond 64 bits is kept as
+/// its text (cut at 40 characters) and refused by [`Int::get`] as ValueError naming the argument
+/// (PyO3's own conversion raises a bare OverflowError that names nothing).
+#[derive(Clone, Debug)]
+pub(crate) struct Int(Result<i64, String>);
+
+impl Int {
+    pub(crate) const fn of(x: i64) -> Self {
+        Int(Ok(x))
+    }
+
+    /// The value, or ValueError naming the argument `name` for an int beyond 64 bits.
+    pub(crate) fn get(&self, name: &str) -> PyResult<i64> {
+        self.0
+            .clone()
+            .map_err(|text| value_error(&[name], format!("{text} is out of range")))
+    }
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Int {
+    type Error = PyErr;
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        match obj.extract::<i64>() {
+            Ok(x) => Ok(Int(Ok(x))),
+            Err(e) if e.is_instance_of::<PyOverflowError>(obj.py()) => {
+                let text = obj.str()?.to_string();
+                let n = text.chars().count();
+                let text = if n > 40 {
+                    let head: String = text.chars().take(20).collect();
+                    format!("{head}… ({n} characters)")
+                } else {
+                    text
+                };
+                Ok(Int(Err(text)))
+            }
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// An optional whole-number argument, or ValueError naming it ([`Int::get`]).
+pub(crate) fn int(name: &str, x: Option<Int>) -> PyResult<Option<i64>> {
+    x.map(|x| x.get(name)).transpose()
+}
+
 /// A whole number >= 0 (a torus, a count), or ValueError naming it.
-pub(crate) fn whole(name: &str, x: i64) -> PyResult<usize> {
+pub(crate) fn whole(name: &str, x: Int) -> PyResult<usize> {
+    let x = x.get(name)?;
     usize::try_from(x).map_err(|_| value_error(&[name], format!("must be >= 0, got {x}")))
 }
 
@@ -134,13 +180,13 @@ impl Case {
 #[pymethods]
 impl Case {
     #[new]
-    #[pyo3(signature = (a, b, m, h, torus = 0, phase1 = None, phase2 = None))]
+    #[pyo3(signature = (a, b, m, h, torus = Int::of(0), phase1 = None, phase2 = None))]
     fn new(
         a: &Bound<'_, PyAny>,
         b: &Bound<'_, PyAny>,
         m: &Bound<'_, PyAny>,
         h: &Bound<'_, PyAny>,
-        torus: i64,
+        torus: Int,
         phase1: Option<&Bound<'_, PyAny>>,
         phase2: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
@@ -243,8 +289,10 @@ impl Case {
         &self,
         py: Python<'py>,
         times: &Bound<'py, PyAny>,
-        digits: Option<i64>,
+        digits: Option<Int>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let digits = int("digits", digits)?;
+        arrays::times_count(times, "times")?;
         let times = match numbers("times", times)? {
             Some(d) => Times::Decimals(d),
             None => Times::Binary(arrays::vector(times, "times")?),

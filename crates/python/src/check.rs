@@ -14,7 +14,7 @@ use rsts_harness::events::DetectedEvent;
 use rsts_harness::reference::check_times;
 use rsts_harness::CheckMotion;
 
-use crate::case::{number, whole, Case};
+use crate::case::{int, number, whole, Case, Int};
 use crate::compare::{event_specs, finish, Watch};
 use crate::{arrays, report_dict, value_error, Interrupts};
 
@@ -110,15 +110,16 @@ pub fn check<'py>(
     b: Option<&Bound<'py, PyAny>>,
     m: Option<&Bound<'py, PyAny>>,
     h: Option<&Bound<'py, PyAny>>,
-    torus: Option<i64>,
+    torus: Option<Int>,
     phase1: Option<&Bound<'py, PyAny>>,
     phase2: Option<&Bound<'py, PyAny>>,
     case: Option<Case>,
-    digits: Option<i64>,
+    digits: Option<Int>,
     name: &str,
     events: Option<&Bound<'py, PyAny>>,
     expect: Option<Vec<String>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let digits = int("digits", digits)?;
     let given = |name, x: Option<&Bound<'py, PyAny>>, default: i64| match x {
         Some(x) => number(name, x),
         None => Ok(Decimal::from_integer(default)),
@@ -143,7 +144,7 @@ pub fn check<'py>(
             },
             m: number("m", m)?,
             h: number("h", h)?,
-            torus: whole("torus", torus.unwrap_or(0))?,
+            torus: whole("torus", torus.unwrap_or(Int::of(0)))?,
             phase1: given("phase1", phase1, 0)?,
             phase2: given("phase2", phase2, 0)?,
         }),
@@ -181,10 +182,10 @@ pub fn check<'py>(
         (None, Some(states)) => {
             let t = arrays::vector(source, "times")?;
             check_times(&t).map_err(|e| value_error(&["times"], e))?;
-            let x = arrays::states(states, "states", Some(t.len()), Some(&t))?;
+            let x = arrays::state_rows(states, "states", t.len())?;
             Source::Arrays {
                 times: t,
-                states: x,
+                states: Box::new(x),
                 name: name.to_string(),
             }
         }

@@ -19,7 +19,7 @@ use rsts_harness::{
     check_times, HarnessError, Integrator, Observer, SampleRecord, Trajectory, DEFAULT_PIECES,
 };
 
-use crate::case::{whole, Case};
+use crate::case::{int, whole, Case, Int};
 use crate::{arrays, harness_error, report_dict, value_error, Interrupts};
 
 /// A Python callable `f(x0, times, a, b, rtol, atol)` as an integrator: called once per run
@@ -226,25 +226,29 @@ pub(crate) fn event_specs(names: Option<Vec<String>>, what: &str) -> PyResult<Ve
 ///
 /// The GIL is released while Rust works; Ctrl-C raises KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (integrator, case = None, t_end = 100.0, samples = 1001, rtol = 1e-10, atol = 1e-10, digits = None, times = None, events = None, dense = None, pieces = DEFAULT_PIECES as i64))]
+#[pyo3(signature = (integrator, case = None, t_end = 100.0, samples = Int::of(1001), rtol = 1e-10, atol = 1e-10, digits = None, times = None, events = None, dense = None, pieces = Int::of(DEFAULT_PIECES as i64)))]
 #[allow(clippy::too_many_arguments)]
 pub fn compare<'py>(
     py: Python<'py>,
     integrator: &Bound<'py, PyAny>,
     case: Option<Case>,
     t_end: f64,
-    samples: i64,
+    samples: Int,
     rtol: f64,
     atol: f64,
-    digits: Option<i64>,
+    digits: Option<Int>,
     times: Option<&Bound<'py, PyAny>>,
     events: Option<Vec<String>>,
-    dense: Option<i64>,
-    pieces: i64,
+    dense: Option<Int>,
+    pieces: Int,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let digits = int("digits", digits)?;
     let case = Case::or_default(case)?;
     let times = match times {
-        Some(t) => Times::Binary(arrays::vector(t, "times")?),
+        Some(t) => {
+            arrays::times_count(t, "times")?;
+            Times::Binary(arrays::vector(t, "times")?)
+        }
         None => Times::grid(
             crate::case::time("t_end", t_end)?,
             whole("samples", samples)?,

@@ -4,10 +4,12 @@
 use pyo3::prelude::*;
 
 use rsts_dynamics::integrators::MethodName;
-use rsts_harness::{convergence as run, ConvergencePlan, FixedStepIntegrator, FixedStepMethod};
+use rsts_harness::{
+    convergence_until as run, ConvergencePlan, FixedStepIntegrator, FixedStepMethod,
+};
 
-use crate::case::{whole, Case};
-use crate::{harness_error, report_dict, value_error};
+use crate::case::{int, whole, Case, Int};
+use crate::{harness_error, report_dict, value_error, Interrupts};
 
 /// Run built-in `methods` ("rk4", "dopri5", "dop853": step control off; "taylor-f64",
 /// "taylor-dd", "taylor-mp" at `order`) at the fixed `steps` (at least 3; each made a whole
@@ -15,8 +17,11 @@ use crate::{harness_error, report_dict, value_error};
 /// and fit each method's order over its asymptotic window: a dict with `case`, `rows` (method,
 /// step, max_error, final_error, steps, rhs_evals) and `fits` (method, order, order_stderr,
 /// window, excluded: [{step, why}]), equal to `rsts convergence --format json`.
+///
+/// The GIL is released while Rust works; Ctrl-C raises KeyboardInterrupt before the next run
+/// (a method at a step).
 #[pyfunction]
-#[pyo3(signature = (methods, steps, case = None, t_end = 10.0, samples = 11, order = None, digits = 40))]
+#[pyo3(signature = (methods, steps, case = None, t_end = 10.0, samples = Int::of(11), order = None, digits = Int::of(40)))]
 #[allow(clippy::too_many_arguments)]
 pub fn convergence<'py>(
     py: Python<'py>,
@@ -24,10 +29,12 @@ pub fn convergence<'py>(
     steps: Vec<f64>,
     case: Option<Case>,
     t_end: f64,
-    samples: i64,
-    order: Option<i64>,
-    digits: i64,
+    samples: Int,
+    order: Option<Int>,
+    digits: Int,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let order = int("order", order)?;
+    let digits = digits.get("digits")?;
     let case = Case::or_default(case)?;
     let samples = whole("samples", samples)?;
     if methods.is_empty() {
@@ -56,14 +63,17 @@ pub fn convergence<'py>(
         &steps,
     )
     .map_err(harness_error)?;
-    let report = py
-        .detach(|| {
-            let mut refs: Vec<&mut dyn FixedStepIntegrator> = fixed
-                .iter_mut()
-                .map(|f| f as &mut dyn FixedStepIntegrator)
-                .collect();
-            run(&plan, &mut refs)
-        })
-        .map_err(harness_error)?;
-    report_dict(py, &report)
+    let (report, interrupt) = py.detach(|| {
+        let mut refs: Vec<&mut dyn FixedStepIntegrator> = fixed
+            .iter_mut()
+            .map(|f| f as &mut dyn FixedStepIntegrator)
+            .collect();
+        let mut interrupts = Interrupts::new();
+        let report = run(&plan, &mut refs, &mut || interrupts.stopped());
+        (report, interrupts.take())
+    });
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
+    report_dict(py, &report.map_err(harness_error)?)
 }

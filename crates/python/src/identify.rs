@@ -5,7 +5,7 @@ use pyo3::prelude::*;
 
 use rsts_flows::identify::{identify as identify_flow, IdentifyRequest};
 
-use crate::case::{digits_arg, number, numbers};
+use crate::case::{digits_arg, number, numbers, Int};
 use crate::{arrays, flow_error, report_dict};
 
 /// Which motion of N the state (omega, alpha, beta) is on, in the fields a > b > 0: a dict with
@@ -30,8 +30,9 @@ pub fn identify<'py>(
     a: Option<&Bound<'py, PyAny>>,
     b: Option<&Bound<'py, PyAny>>,
     tolerance: f64,
-    digits: Option<i64>,
+    digits: Option<Int>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let digits = crate::case::int("digits", digits)?;
     let state = match numbers("state", state)? {
         Some(x) => x,
         None => arrays::state(state, "state")?

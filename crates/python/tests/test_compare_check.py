@@ -97,7 +97,7 @@ def test_check_bad_input_raises_valueerror():
     nan[1, 4] = np.nan
     cases = [
         (lambda: rsts.check(times, states[:2]), "states: expected shape (3, 9)"),
-        (lambda: rsts.check(times, nan), "states: row 1 (t = 0.5), alpha2: not a finite number"),
+        (lambda: rsts.check(times, nan), "states: row 1 (t = 0.5), alpha2: NaN is not a finite number"),
         (lambda: rsts.check(times[::-1], states), "times: times must be strictly increasing"),
         (lambda: rsts.check(times, states, m=0.3), "m/h: give both or neither"),
         (lambda: rsts.check(times, states, m=0.3, h=-100.0), "m/h: (m, h) is outside"),
@@ -124,7 +124,7 @@ def test_a_bad_callable_gets_a_clear_error():
         (answer(lambda t: [[0.0] * 9] * len(t)), "returned list, not a numpy array"),
         (answer(lambda t: np.zeros((len(t), 8))), "expected shape (3, 9) (one row of omega, alpha, beta per time), got shape [3, 8]"),
         (answer(lambda t: np.zeros((len(t) + 1, 9))), "got shape [4, 9]"),
-        (answer(lambda t: np.full((len(t), 9), np.nan)), "row 0 (t = 0), omega1: not a finite number (NaN)"),
+        (answer(lambda t: np.full((len(t), 9), np.nan)), "row 0 (t = 0), omega1: NaN is not a finite number"),
         (answer(lambda t: np.array([["a"] * 9] * len(t))), "expected real numbers"),
     ]
     for f, message in cases:

@@ -18,6 +18,10 @@ use crate::geometry::WarmStart;
 use crate::metrics::{sample_errors, SampleErrors, StateSnapshot};
 use crate::HarnessError;
 
+/// Bits of MPFR numbers widened from f64 data at once (those of 1.6·10⁷ digits, as a chunk of
+/// high-precision data read from a file holds: `rsts_external::stream::CHUNK_DIGITS`).
+const WIDE_BITS: usize = 53_150_850;
+
 impl Analysis {
     /// [`Analysis::sample_all`] of f64 samples: `times` and one state (ω, α, β) per time. In
     /// double-double for data of at most 16 digits (the analysis made by
@@ -36,14 +40,26 @@ impl Analysis {
             )));
         }
         if self.dd.is_none() || self.dd_measure.is_none() {
+            // Widened a part at a time: at most WIDE_BITS bits of numbers at once (at 10000
+            // digits 160 rows, not the whole chunk: 8192 rows would take 340 MB). Each MPFR
+            // sample is evaluated apart from the others: the parts change no digit.
             let bits = self.bits;
+            let rows = (WIDE_BITS / (10 * bits as usize).max(1)).clamp(1, super::BATCH);
             let wide = |x: &f64| Float::with_val(bits, *x);
-            let t: Vec<Float> = times.iter().map(wide).collect();
-            let s: Vec<State<Float>> = states
-                .iter()
-                .map(|x| State::from_slice(&x.each_ref().map(wide)))
-                .collect();
-            return self.sample_all(&t, &s, observer);
+            let mut first = None;
+            for (tc, sc) in times.chunks(rows).zip(states.chunks(rows)) {
+                let t: Vec<Float> = tc.iter().map(wide).collect();
+                let s: Vec<State<Float>> = sc
+                    .iter()
+                    .map(|x| State::from_slice(&x.each_ref().map(wide)))
+                    .collect();
+                let errors = self.sample_all(&t, &s, observer)?;
+                first = first.or(errors);
+                if !self.report().complete {
+                    break;
+                }
+            }
+            return Ok(first);
         }
         self.in_batches(
             times,
