@@ -201,11 +201,7 @@ fn write_table(out: &mut dyn Write, report: &ConvergenceReport) -> anyhow::Resul
     }
     output::write_table(out, &t)?;
     for f in &report.fits {
-        writeln!(
-            out,
-            "{}: observed order {:.3} ± {:.3} over steps {:.3e} to {:.3e}",
-            f.method, f.order, f.order_stderr, f.window[0], f.window[1]
-        )?;
+        writeln!(out, "{}: {}", f.method, f.describe())?;
         for e in &f.excluded {
             writeln!(out, "  excluded step {:.3e}: {}", e.step, e.why)?;
         }
