@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """An independent reference trajectory from heyoka in MPFR (any state, not only on N), in the
 `rsts-reference-1` format read by the ignored test `external_reference_agrees` of
-crates/dynamics/tests/taylor.rs (docs/taylor.md):
+crates/dynamics/tests/dynamics/taylor.rs (docs/taylor.md):
 
     {"format": "rsts-reference-1", "a": "1", "b": "0.5",
      "times": ["0", "0.25", ...], "states": [["w1", "w2", "w3", "al1", ..., "be3"], ...]}

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Run every test of the workspace in release mode: the same build as scripts/run.sh, so after
-# run.sh only the tests themselves are compiled (crates/cli/tests/one_build.rs checks it).
+# run.sh only the tests themselves are compiled (crates/cli/tests/cli/one_build.rs checks it).
 # The last line is the summary `N passed, M failed, K skipped`:
 #   N  tests that passed, less those that skipped all their work for a missing optional tool
 #      (they call rsts_io::report_skip, which appends a line to $RSTS_SKIP_LOG);
@@ -14,7 +14,7 @@
 # The exit status is cargo's, or pytest's when cargo's is 0. Every test binary runs even when
 # one fails (--no-fail-fast).
 # Extra arguments go to cargo test; --workspace is added unless they pick packages:
-#   scripts/test.sh --test conservation        # one test file, no recompilation
+#   scripts/test.sh --test dynamics conservation::   # one test file, no recompilation
 #   scripts/test.sh -p rsts-cli -- --nocapture
 set -uo pipefail
 

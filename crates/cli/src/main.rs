@@ -50,6 +50,8 @@ struct Cli {
     command: Command,
 }
 
+// Parsed once per run: the size of the largest command's options costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Integrate the Euler–Poisson equations from one state and print the samples with H, K, G.

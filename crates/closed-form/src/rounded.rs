@@ -9,7 +9,7 @@
 //! least 2⁻⁸⁸ of the value's scale. With the double-double error a few units of 2⁻¹⁰⁶ of the
 //! scale, a value falls back to MPFR only when it lies within ~2⁻³⁵ ulp of a rounding boundary
 //! or is below ~1e-9 of its scale: 43 of 240 000 random rows in the harness's test
-//! (tests/rounded_reference.rs), all within 1e-9 of Σ.
+//! (crates/harness/tests/harness/rounded_reference.rs), all within 1e-9 of Σ.
 
 use rsts_dynamics::scalar::DoubleDouble;
 use rug::Float;

@@ -611,7 +611,7 @@ mod tests {
             c.motion.m = rsts_closed_form::Decimal::from_f64(-0.7092).unwrap();
             c.motion.h = rsts_closed_form::Decimal::from_f64(1.5643).unwrap();
             c.motion.torus = 2;
-            c.t_end = rsts_closed_form::Decimal::from_f64(50.0 as f64).unwrap();
+            c.t_end = rsts_closed_form::Decimal::from_f64(50.0_f64).unwrap();
             c
         };
         let bits = 172;

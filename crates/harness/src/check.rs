@@ -22,6 +22,9 @@ use crate::{HarnessError, REFERENCE_GUARD_BITS};
 pub const ON_N_TOLERANCE: f64 = 1e-8;
 
 /// What a trajectory is checked against.
+// One value per check request: its size (the motion's seven decimals) costs nothing, and a box
+// would only add a step to every construction and match.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum CheckMotion {
     /// The motion, given.

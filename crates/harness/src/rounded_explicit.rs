@@ -2,7 +2,7 @@
 //! double-double, each value rounded to f64 when Ziv's test decides it
 //! ([`rsts_closed_form::rounded`]), the row otherwise computed in MPFR (30 digits + 64 guard
 //! bits, as `rsts reference`) and rounded. The result is the MPFR row rounded, bit for bit
-//! (tests/rounded_explicit.rs), the cheapest scalar that is exact enough (issue 21, item 2).
+//! (tests/harness/rounded_explicit.rs), the cheapest scalar that is exact enough (issue 21, item 2).
 
 use rug::Float;
 

@@ -1,7 +1,7 @@
 //! The reference of f64 data in double-double: the state (ω, α, β) from the closed form in
 //! [`DoubleDouble`], each value rounded to f64 when Ziv's test decides it
 //! ([`rsts_closed_form::rounded`]), the state otherwise recomputed in MPFR by the caller. The
-//! result is the MPFR state rounded to f64, bit for bit (tests/rounded_reference.rs), at about
+//! result is the MPFR state rounded to f64, bit for bit (tests/harness/rounded_reference.rs), at about
 //! a fifth of its cost. H, K, G are constants on N ([`integrals_on_n`]), rounded once.
 
 use rug::Float;

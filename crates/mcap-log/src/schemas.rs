@@ -36,7 +36,7 @@ pub static SCENE_UPDATE: LazyLock<String> =
 /// The vendored JSON text, re-serialized without whitespace (the same JSON value).
 fn compact(text: &str) -> String {
     serde_json::from_str::<Value>(text)
-        .expect("the vendored Foxglove schemas are valid JSON (tests/schemas.rs)")
+        .expect("the vendored Foxglove schemas are valid JSON (tests/mcap/schemas.rs)")
         .to_string()
 }
 

@@ -17,7 +17,7 @@
 //! ```
 //!
 //! in the notation of [`super::phi_field`] (X = ω₁² − ω₂² + A₁ − B₂, Y = 2ω₁ω₂ + A₂ + B₁,
-//! L = 2G − p²H). A test (crates/closed-form/tests/phi_field.rs) compares it with the jet
+//! L = 2G − p²H). A test (crates/closed-form/tests/closed_form/phi_field.rs) compares it with the jet
 //! derivative at random states.
 //!
 //! [`phi_field`]: super::phi_field::phi_field

@@ -8,7 +8,7 @@
 //!   λ² = −4 r⁴ m ℓ²        (ℓ² = 2p²m² + 2hm + 1)
 //! ```
 //!
-//! (tests/manifold.rs computes the linearisation by nested dual numbers and checks tr J² = 2λ²,
+//! (tests/closed_form/manifold.rs computes the linearisation by nested dual numbers and checks tr J² = 2λ²,
 //! J³ = λ²J and rank J = 2 at 50 digits in every camera). m > 0: λ imaginary, N is **normally
 //! elliptic** (a perturbation off N stays near it); m < 0: λ real, N is **normally
 //! hyperbolic** (a perturbation off N grows exponentially); m = 0 or ℓ = 0: degenerate.

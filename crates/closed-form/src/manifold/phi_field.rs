@@ -12,7 +12,7 @@
 //!   ∇Φ = r⁴∇K − 2L∇L,  L = 2G − p²H,  ∇L = 2∇G − p²∇H
 //! ```
 //!
-//! A test (crates/closed-form/tests/phi_field.rs) compares each gradient with the jet gradient of
+//! A test (crates/closed-form/tests/closed_form/phi_field.rs) compares each gradient with the jet gradient of
 //! the definitions at random states, in f64 and at 200 bits.
 
 use rsts_dynamics::integrals::{energy, third};

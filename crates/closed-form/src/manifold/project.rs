@@ -170,7 +170,7 @@ impl<T: Real> Projector<T> {
     /// The f64 iteration gives up early on a state whose shift clearly stays beyond the bound
     /// (a sample whose error has saturated then costs three or four steps instead of sixteen):
     /// after step k a shift beyond [`GIVE_UP`]`[k]`·bound and beyond the bound by more than four
-    /// times its last step. On 13 500 states off N in every camera (tests/projector.rs) the
+    /// times its last step. On 13 500 states off N in every camera (tests/closed_form/projector.rs) the
     /// shifts of the iterations that end within the bound were at most 186, 163, 27 and 1 times
     /// the bound after steps 1 to 4 (on camera V's dopri5 run, stop 30: 236, 138, 12 and 0.998):
     /// the thresholds of steps 2 and 3 leave a margin of 11 to 18. From step 4 on only the four
@@ -190,7 +190,7 @@ impl<T: Real> Projector<T> {
     /// warm start from the nearest point of the sample before (its phase error added to this
     /// sample's exact angles, its shift), where the first step is already below [`CHORD`] and
     /// one evaluation with derivatives and a chord step converge. The same nearest point to
-    /// the round-off (tests/projector.rs, `a_warm_start_finds_the_nearest_point_of_a_cold_one`).
+    /// the round-off (tests/closed_form/projector.rs, `a_warm_start_finds_the_nearest_point_of_a_cold_one`).
     pub fn project_from(
         &self,
         target: &[T; DIM],

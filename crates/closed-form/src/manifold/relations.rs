@@ -13,7 +13,7 @@
 //!   M  = Re Q / r² = [ξ₁ + (U² − V²)/ρ²]/r²          (the partial integral: M = m on N)
 //! ```
 //!
-//! Along any motion dQ/dt = i·f₂·Q (tests/manifold.rs checks it at random states), so |Q|² = K is
+//! Along any motion dQ/dt = i·f₂·Q (tests/closed_form/manifold.rs checks it at random states), so |Q|² = K is
 //! conserved everywhere and Q is frozen on N. Im Q, f₂ and M divide by ρ², which vanishes where
 //! s₁ passes through infinity (on N when m < 0); the regular measure of the distance from N is
 //! [`crate::manifold::distance`].

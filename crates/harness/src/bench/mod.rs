@@ -323,7 +323,7 @@ mod tests {
     fn case(t_end: f64, samples: usize) -> Case {
         {
             let mut c = Case::default_i_plus();
-            c.t_end = rsts_closed_form::Decimal::from_f64(t_end as f64).unwrap();
+            c.t_end = rsts_closed_form::Decimal::from_f64(t_end).unwrap();
             c.samples = samples;
             c
         }

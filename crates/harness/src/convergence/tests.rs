@@ -3,7 +3,7 @@ use super::*;
 fn case(t_end: f64, samples: usize) -> Case {
     {
         let mut c = Case::default_i_plus();
-        c.t_end = rsts_closed_form::Decimal::from_f64(t_end as f64).unwrap();
+        c.t_end = rsts_closed_form::Decimal::from_f64(t_end).unwrap();
         c.samples = samples;
         c
     }
