@@ -354,7 +354,9 @@ mod fit;
 
 pub use fit::{
     fit_order, least_squares, order_with_error, two_digits, Excluded, ExcludedKind, Floor,
-    FloorKind, OrderFit, Regime, RoundOff, MIN_WINDOW_SLOPE, ROUND_OFF_MARGIN,
+    FloorKind, OrderFit, Regime, RoundOff, MIN_WINDOW_SLOPE, NOISE_DECADE, ROUND_OFF_MARGIN,
 };
+#[cfg(test)]
+mod floor_tests;
 #[cfg(test)]
 mod tests;

@@ -13,7 +13,7 @@ use crate::{harness_error, report_dict, value_error};
 /// "taylor-dd", "taylor-mp" at `order`) at the fixed `steps` (at least 3; each made a whole
 /// fraction of the sample spacing t_end/(samples - 1)) along `case` (default: `Case.default()`)
 /// and fit each method's order over its asymptotic window: a dict with `case`, `rows` (method,
-/// step, max_error, final_error, steps, rhs_evals) and `fits` (method, order, order_stderr,
+/// step, max_error, final_error, steps, rhs_evals) and `fits` (method, order, order_stderr, regimes, competing, floor,
 /// window, excluded: [{step, why}]), equal to `rsts convergence --format json`.
 #[pyfunction]
 #[pyo3(signature = (methods, steps, case = None, t_end = 10.0, samples = 11, order = None, digits = 40))]

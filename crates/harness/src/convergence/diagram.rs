@@ -46,8 +46,7 @@ pub fn chart(report: &ConvergenceReport) -> Chart {
         let several = fit.regimes.len() > 1;
         for (r, regime) in fit.regimes.iter().enumerate() {
             let (lo, hi) = (regime.window[0] / 2.0, regime.window[1] * 2.0);
-            let line =
-                |h: f64| 10f64.powf(regime.log10_constant + regime.order * h.log10());
+            let line = |h: f64| 10f64.powf(regime.log10_constant + regime.order * h.log10());
             let order = super::order_with_error(regime.order, regime.order_stderr);
             let label = if !several {
                 format!("{} fit: order {order}", fit.method)
@@ -88,7 +87,10 @@ pub fn chart(report: &ConvergenceReport) -> Chart {
         }
     }
     if !excluded.is_empty() {
-        let names: Vec<&str> = kinds.iter().map(|k: &super::ExcludedKind| k.as_str()).collect();
+        let names: Vec<&str> = kinds
+            .iter()
+            .map(|k: &super::ExcludedKind| k.as_str())
+            .collect();
         let label = format!("excluded: {}", names.join(", "));
         let mut s = Series::new(label, excluded, Style::Markers);
         s.color = Some(EXCLUDED_GREY.into());

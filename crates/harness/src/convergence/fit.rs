@@ -36,7 +36,10 @@ impl RoundOff {
 
 /// A floor is round-off when its error is at most this times the expected round-off u·|x|·n
 /// (the constants of a method: stages, the nine components, a phase error that grows with t).
-pub const ROUND_OFF_MARGIN: f64 = 10.0;
+pub const ROUND_OFF_MARGIN: f64 = 2.0;
+
+/// A regime below noise must fall this many times below every error above it.
+pub const NOISE_DECADE: f64 = 10.0;
 
 /// Smallest median slope of a window: the error must fall with the step.
 pub const MIN_WINDOW_SLOPE: f64 = 0.5;
@@ -80,8 +83,9 @@ impl FloorKind {
     }
 }
 
-/// Where the error stops falling below the smallest regime: the lowest error there and the
-/// round-off expected at its step.
+/// Where the error stops falling below the smallest regime: of the steps there, the one
+/// farthest above the round-off expected at it — its error and that round-off. The floor is
+/// round-off when every step there is within [`ROUND_OFF_MARGIN`] of its expected round-off.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Floor {
     pub error: f64,
@@ -371,7 +375,28 @@ pub fn fit_order(steps: &[f64], errors: &[f64], round_off: &[f64]) -> Result<Ord
         .into_iter()
         .filter(|&(i, j, _)| (i..=j).any(|k| !pts[k].at_round_off()))
         .collect();
-    found.sort_by(|a, b| b.0.cmp(&a.0));
+    found.sort_by_key(|w| std::cmp::Reverse(w.0));
+    // A window below a step where the error grew as the step halved is a regime only when it
+    // falls a decade below every error above it; otherwise it is a run inside the noise.
+    let mut kept: Vec<(usize, usize, f64)> = Vec::new();
+    for w in found {
+        if let Some(prev) = kept.last() {
+            let noisy = slopes[w.1..prev.0].iter().any(|&s| s < 0.0);
+            let above = pts[w.1 + 1..]
+                .iter()
+                .map(|p| p.e)
+                .fold(f64::INFINITY, f64::min);
+            let lowest = pts[w.0..=w.1]
+                .iter()
+                .map(|p| p.e)
+                .fold(f64::INFINITY, f64::min);
+            if noisy && lowest * NOISE_DECADE >= above {
+                continue;
+            }
+        }
+        kept.push(w);
+    }
+    let found = kept;
     if found.is_empty() {
         let shown: Vec<String> = slopes.iter().map(|s| format!("{s:.2}")).collect();
         return Err(format!(
@@ -403,6 +428,9 @@ pub fn fit_order(steps: &[f64], errors: &[f64], round_off: &[f64]) -> Result<Ord
     let in_window = |k: usize| found.iter().any(|&(i, j, _)| (i..=j).contains(&k));
     let (top, top_m) = (found[0].1, found[0].2);
     let (bottom, bottom_m) = (found[found.len() - 1].0, found[found.len() - 1].2);
+    // Below the regimes, the largest step where the error grows as the step halves: from there
+    // down the errors are noise.
+    let noise_from = (0..bottom).rev().find(|&k| slopes[k] < 0.0);
     let mut floor: Option<Floor> = None;
     for (k, p) in pts.iter().enumerate() {
         if in_window(k) {
@@ -450,7 +478,7 @@ pub fn fit_order(steps: &[f64], errors: &[f64], round_off: &[f64]) -> Result<Ord
             let ratio = p.e / p.r;
             let kind = if p.at_round_off() {
                 ExcludedKind::RoundOffFloor
-            } else if s <= -MIN_WINDOW_SLOPE {
+            } else if noise_from.is_some_and(|n| k <= n) {
                 ExcludedKind::Noise
             } else if s < MIN_WINDOW_SLOPE {
                 ExcludedKind::FloorAboveRoundOff
@@ -458,7 +486,7 @@ pub fn fit_order(steps: &[f64], errors: &[f64], round_off: &[f64]) -> Result<Ord
                 ExcludedKind::OffTheLine
             };
             if kind != ExcludedKind::OffTheLine
-                && floor.is_none_or(|f: Floor| p.e < f.error)
+                && floor.is_none_or(|f: Floor| ratio > f.error / f.expected_round_off)
             {
                 floor = Some(Floor {
                     error: p.e,
@@ -472,10 +500,16 @@ pub fn fit_order(steps: &[f64], errors: &[f64], round_off: &[f64]) -> Result<Ord
                      expected at this step ({:.2e}; local slope {s:.2} to the next larger step)",
                     p.e, p.r
                 ),
-                ExcludedKind::Noise => format!(
+                ExcludedKind::Noise if s < 0.0 => format!(
                     "noise: the error grows {:.2}× as the step halves (local slope {s:.2} to the \
                      next larger step), {ratio:.1e}× the round-off expected at this step",
                     p.e / pts[k + 1].e
+                ),
+                ExcludedKind::Noise => format!(
+                    "noise: below the step {:.3e} where the error grew as the step halved (local \
+                     slope {s:.2} to the next larger step), {ratio:.1e}× the round-off expected \
+                     at this step",
+                    pts[noise_from.unwrap_or(k)].h
                 ),
                 ExcludedKind::FloorAboveRoundOff => format!(
                     "floor above round-off: the error stops falling (local slope {s:.2} to the \
@@ -499,6 +533,25 @@ pub fn fit_order(steps: &[f64], errors: &[f64], round_off: &[f64]) -> Result<Ord
     if let Some(f) = &mut floor {
         if f.error > ROUND_OFF_MARGIN * f.expected_round_off {
             f.kind = FloorKind::AboveRoundOff;
+            // A low error inside a floor above round-off is not a round-off floor.
+            let (worst, worst_h) = (f.error, pts.iter().find(|p| p.e == f.error).map(|p| p.h));
+            for e in excluded.iter_mut() {
+                if e.kind == ExcludedKind::RoundOffFloor {
+                    let below_noise = noise_from.is_some_and(|n| e.step <= pts[n].h);
+                    e.kind = if below_noise {
+                        ExcludedKind::Noise
+                    } else {
+                        ExcludedKind::FloorAboveRoundOff
+                    };
+                    e.why = format!(
+                        "{}: near the round-off level here, but the floor is above round-off \
+                         ({worst:.2e} at step {:.3e}); {}",
+                        e.kind.as_str(),
+                        worst_h.unwrap_or(f64::NAN),
+                        e.why.trim_start_matches("round-off floor: ")
+                    );
+                }
+            }
         }
     }
     excluded.sort_by(|a, b| b.step.total_cmp(&a.step));

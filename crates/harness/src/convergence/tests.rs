@@ -136,24 +136,3 @@ fn steps_are_checked_and_fitted_to_the_grid() {
     assert!(ConvergencePlan::new(case(2.0, 3), &[0.5, 0.5, 0.25]).is_err());
     assert!(ConvergencePlan::new(case(2.0, 3), &[0.5, -0.1, 0.25]).is_err());
 }
-
-#[test]
-#[ignore]
-fn probe_floors() {
-    let c = case(10.0, 11);
-    for (method, order, steps) in [
-        (MethodName::Rk4, None, halvings(0.5, 14)),
-        (MethodName::Dopri5, None, halvings(0.5, 11)),
-        (MethodName::Dop853, None, halvings(1.0, 8)),
-    ] {
-        let plan = ConvergencePlan::new(c.clone(), &steps).unwrap();
-        let mut m = FixedStepMethod::new(method, order, 50).unwrap();
-        let report = convergence(&plan, &mut [&mut m]).unwrap();
-        for r in &report.rows {
-            let n = 10.0 / r.step;
-            let u = 2f64.powi(-53);
-            println!("{} h={:.3e} n={n} e={:.3e} u√n={:.2e} un={:.2e}", r.method, r.step, r.max_error, u*n.sqrt(), u*n);
-        }
-        println!("{:?}", report.fits[0]);
-    }
-}
