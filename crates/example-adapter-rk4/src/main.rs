@@ -13,7 +13,7 @@
 //! The step is the request's `"step"` when it has one (a convergence study, `rsts convergence`),
 //! else rtol^(1/4) (at most 0.01), shortened so that every interval between two requested times
 //! is a whole number of steps; `--step H` sets it instead (and the request's step is ignored).
-//! `--tableau heun|kutta3|rk4-wrong-weight` runs another explicit Runge–Kutta method instead of
+//! `--tableau heun|kutta3|rk4-wrong-weight|rk4-off-weight|rk4-near` runs another explicit Runge–Kutta method instead of
 //! the classical RK4 (known orders, for tests of observed-order fits).
 //!
 //! Events (docs/events.md): when the request asks for `"events"` (components of ω, α, β, γ),
@@ -62,7 +62,10 @@ struct Tableau {
 /// The methods of `--tableau NAME`: the classical RK4 (default), Heun's method (order 2),
 /// Kutta's third-order method, and RK4 with one weight misplaced (b = 1/6, 1/2, 1/6, 1/6: the
 /// conditions of orders 1 and 2 still hold, Σ bᵢaᵢⱼcⱼ = 1/8 ≠ 1/6 fails, so its order is 2).
-const TABLEAUS: [Tableau; 4] = [
+/// Two more for the floor and regime checks (issue 33): `rk4-off-weight`, the weight of k2 off
+/// by 4e-10 (Σbᵢ ≠ 1: an error floor ~1e-9, far above round-off), and `rk4-near`, the weights
+/// of k2 and k3 off by ±4e-5 (Σbᵢaᵢⱼcⱼ = 1/6 − 1e-5: order 4, then order 2 at small steps).
+const TABLEAUS: [Tableau; 6] = [
     Tableau {
         name: "rk4",
         a: &[&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]],
@@ -82,6 +85,16 @@ const TABLEAUS: [Tableau; 4] = [
         name: "rk4-wrong-weight",
         a: &[&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]],
         b: &[1.0 / 6.0, 0.5, 1.0 / 6.0, 1.0 / 6.0],
+    },
+    Tableau {
+        name: "rk4-off-weight",
+        a: &[&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]],
+        b: &[1.0 / 6.0, 1.0 / 3.0 + 4e-10, 1.0 / 3.0, 1.0 / 6.0],
+    },
+    Tableau {
+        name: "rk4-near",
+        a: &[&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]],
+        b: &[1.0 / 6.0, 1.0 / 3.0 + 4e-5, 1.0 / 3.0 - 4e-5, 1.0 / 6.0],
     },
 ];
 

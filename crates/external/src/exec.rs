@@ -281,6 +281,12 @@ impl FixedStepIntegrator for Exec {
         Integrator::working_bits(self)
     }
 
+    /// The precision of the round-off it may accumulate: the `"digits"` its answer states, else
+    /// f64 (53 bits), what an adapter that does not say works in (docs/convergence.md).
+    fn round_off_bits(&self) -> u32 {
+        self.answered_digits.map_or(53, bits_for_digits)
+    }
+
     fn integrate_at(
         &mut self,
         step: f64,

@@ -2,11 +2,15 @@
 //! along one motion, their error against the closed form per step, and the order p of
 //! error ≈ C·hᵖ fitted by least squares over the asymptotic window, found automatically.
 //!
-//! The window ([`fit_order`]): the local slopes between neighbouring steps (log error against
-//! log step) are computed; the window is the longest run of at least two neighbouring slopes that
-//! all lie within max(0.15, 0.05·|m|) of their median m (m ≥ 0.5: the error falls); on a tie the
-//! smaller steps win. Steps below the window are in the round-off floor (the error stops
-//! falling) or off the line; steps above it are pre-asymptotic — each listed with why.
+//! The fit ([`fit_order`], module `fit`; issue 33): the local slopes between neighbouring steps
+//! (log error against log step) are computed; a window is a run of at least two neighbouring
+//! slopes that all lie within max(0.15, 0.05·|m|) of their median m (m ≥ 0.5: the error
+//! falls). The longest window is taken first (ties: the smaller steps), then the longest in
+//! what is left, and so on: each window with a point above round-off is a regime with its own
+//! order, and the order of the fit is that of the regime of the smallest steps. Below it, the
+//! floor is judged against the round-off the method's precision allows after that many steps
+//! ([`RoundOff`]: u·|x|·√n to u·|x|·n); above it, the steps are pre-asymptotic, or noise when
+//! the error does not fall with the step — each listed with why.
 //!
 //! A step h is used as Δ/⌈Δ/h⌉ (Δ = T/(N−1), the sample spacing), so every sample is the end of
 //! a step; a row's `step` is the step used.
@@ -37,6 +41,11 @@ pub trait FixedStepIntegrator {
     }
     /// Bits of its scalar (the reference is evaluated beyond them).
     fn working_bits(&self) -> u32;
+    /// Bits of the arithmetic it rounds in, for the round-off it may accumulate (default: its
+    /// working bits; an external one the precision it answered in).
+    fn round_off_bits(&self) -> u32 {
+        self.working_bits()
+    }
     /// The states at `times` (an even grid whose spacing is a whole multiple of `step`),
     /// every step of length `step`.
     fn integrate_at(
@@ -263,29 +272,6 @@ pub struct ConvergenceRow {
     pub rhs_evals: u64,
 }
 
-/// A step left out of a fit, and why.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Excluded {
-    pub step: f64,
-    pub why: String,
-}
-
-/// The observed order of one method.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct OrderFit {
-    pub method: String,
-    /// Slope p of log10(max_error) = log10(C) + p·log10(step), least squares over the window.
-    pub order: f64,
-    /// Its standard error (from the residuals; n − 2 degrees of freedom).
-    pub order_stderr: f64,
-    /// The smallest and largest step of the window.
-    pub window: [f64; 2],
-    /// log10(C) of the fitted line (drawn in diagrams; not in the JSON).
-    #[serde(skip)]
-    pub log10_constant: f64,
-    pub excluded: Vec<Excluded>,
-}
-
 /// The JSON document of `rsts convergence`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ConvergenceReport {
@@ -321,6 +307,14 @@ pub fn convergence_until(
         initial: reference.states()[0].clone(),
     };
     let last = reference.states().len() - 1;
+    // |x| of the round-off model: the largest |component| along the motion.
+    let size = reference
+        .states()
+        .iter()
+        .flat_map(|x| x.to_array())
+        .map(|c| c.to_f64().abs())
+        .fold(0.0, f64::max);
+    let t_end = plan.case.t_end_f64();
     let mut rows = Vec::new();
     let mut fits = Vec::new();
     for method in methods.iter_mut() {
@@ -368,7 +362,15 @@ pub fn convergence_until(
         }
         let steps: Vec<f64> = mine.iter().map(|r| r.step).collect();
         let errors: Vec<f64> = mine.iter().map(|r| r.max_error).collect();
-        let fit = fit_order(&steps, &errors)
+        let round_off = RoundOff {
+            bits: method.round_off_bits(),
+            size,
+        };
+        let expected: Vec<f64> = steps
+            .iter()
+            .map(|h| round_off.expected(t_end / h))
+            .collect();
+        let fit = fit_order(&steps, &errors, &expected)
             .map_err(|e| HarnessError::Integrator(format!("{label}: {e}")))?;
         fits.push(OrderFit {
             method: name,
@@ -383,124 +385,14 @@ pub fn convergence_until(
     })
 }
 
-/// Smallest median slope of a window: the error must fall with the step.
-const MIN_WINDOW_SLOPE: f64 = 0.5;
-
-/// How far a local slope may lie from the window's median m: max(0.15, 0.05·|m|).
-fn slope_tolerance(m: f64) -> f64 {
-    (0.05 * m.abs()).max(0.15)
-}
-
-fn median(v: &[f64]) -> f64 {
-    crate::bench::median(v)
-}
-
-/// The order of error ≈ C·hᵖ over the automatic window (see the module doc); `method` of the
-/// answer is empty. Errors: fewer than 3 usable points, no window.
-pub fn fit_order(steps: &[f64], errors: &[f64]) -> Result<OrderFit, String> {
-    let mut excluded = Vec::new();
-    let mut pts: Vec<(f64, f64)> = Vec::new();
-    for (&h, &e) in steps.iter().zip(errors) {
-        if e.is_finite() && e > 0.0 {
-            pts.push((h, e));
-        } else {
-            excluded.push(Excluded {
-                step: h,
-                why: format!("error {e} is not positive and finite: nothing to fit"),
-            });
-        }
-    }
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    if pts.len() < 3 {
-        return Err(format!(
-            "an order needs at least 3 steps with a positive finite error, got {}",
-            pts.len()
-        ));
-    }
-    let log: Vec<(f64, f64)> = pts.iter().map(|&(h, e)| (h.log10(), e.log10())).collect();
-    let slopes: Vec<f64> = log
-        .windows(2)
-        .map(|w| (w[1].1 - w[0].1) / (w[1].0 - w[0].0))
-        .collect();
-    // Longest run of slopes [i, j) agreeing with their median; ties: smaller steps.
-    let mut best: Option<(usize, usize, f64)> = None;
-    for i in 0..slopes.len() {
-        for j in (i + 2)..=slopes.len() {
-            let m = median(&slopes[i..j]);
-            let ok = m >= MIN_WINDOW_SLOPE
-                && slopes[i..j]
-                    .iter()
-                    .all(|s| (s - m).abs() <= slope_tolerance(m));
-            let longer = match best {
-                None => true,
-                Some((bi, bj, _)) => j - i > bj - bi,
-            };
-            if ok && longer {
-                best = Some((i, j, m));
-            }
-        }
-    }
-    let Some((i, j, m)) = best else {
-        let shown: Vec<String> = slopes.iter().map(|s| format!("{s:.2}")).collect();
-        return Err(format!(
-            "no asymptotic window: no 3 neighbouring steps whose local slopes agree (slopes from \
-             the smallest step up: {}); add steps between the round-off floor and the \
-             pre-asymptotic range",
-            shown.join(", ")
-        ));
-    };
-    // Points i..=j are the window.
-    for k in 0..i {
-        let s = slopes[k];
-        let why = if s < m - slope_tolerance(m) {
-            format!(
-                "round-off floor: the error stops falling (local slope {s:.2} to the next \
-                 larger step, {m:.2} in the window)"
-            )
-        } else {
-            format!("local slope {s:.2} to the next larger step, far from {m:.2} in the window")
-        };
-        excluded.push(Excluded {
-            step: pts[k].0,
-            why,
-        });
-    }
-    for k in (j + 1)..pts.len() {
-        let s = slopes[k - 1];
-        excluded.push(Excluded {
-            step: pts[k].0,
-            why: format!(
-                "pre-asymptotic: local slope {s:.2} from the next smaller step, far from \
-                 {m:.2} in the window"
-            ),
-        });
-    }
-    excluded.sort_by(|a, b| b.step.total_cmp(&a.step));
-    let (order, order_stderr, log10_constant) = least_squares(&log[i..=j]);
-    Ok(OrderFit {
-        method: String::new(),
-        order,
-        order_stderr,
-        window: [pts[i].0, pts[j].0],
-        log10_constant,
-        excluded,
-    })
-}
-
-/// Slope, its standard error and intercept of y = c + p·x by least squares (n ≥ 3).
-pub fn least_squares(points: &[(f64, f64)]) -> (f64, f64, f64) {
-    let n = points.len() as f64;
-    let mx = points.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = points.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let slope = sxy / sxx;
-    let c = my - slope * mx;
-    let ssr: f64 = points.iter().map(|p| (p.1 - c - slope * p.0).powi(2)).sum();
-    let stderr = (ssr / (n - 2.0) / sxx).sqrt();
-    (slope, stderr, c)
-}
-
 pub mod diagram;
+mod fit;
+
+pub use fit::{
+    fit_order, least_squares, order_with_error, two_digits, Excluded, ExcludedKind, Floor,
+    FloorKind, OrderFit, Regime, RoundOff, MIN_WINDOW_SLOPE, NOISE_DECADE, ROUND_OFF_MARGIN,
+};
+#[cfg(test)]
+mod floor_tests;
 #[cfg(test)]
 mod tests;

@@ -15,7 +15,7 @@ use crate::{harness_error, report_dict, value_error, Interrupts};
 /// "taylor-dd", "taylor-mp" at `order`) at the fixed `steps` (at least 3; each made a whole
 /// fraction of the sample spacing t_end/(samples - 1)) along `case` (default: `Case.default()`)
 /// and fit each method's order over its asymptotic window: a dict with `case`, `rows` (method,
-/// step, max_error, final_error, steps, rhs_evals) and `fits` (method, order, order_stderr,
+/// step, max_error, final_error, steps, rhs_evals) and `fits` (method, order, order_stderr, regimes, competing, floor,
 /// window, excluded: [{step, why}]), equal to `rsts convergence --format json`.
 ///
 /// The GIL is released while Rust works; Ctrl-C raises KeyboardInterrupt before the next run

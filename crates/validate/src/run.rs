@@ -253,6 +253,9 @@ fn judge(r: &mut RunResult) {
             ));
         }
     }
+    if let (Some(_), Some(fit)) = (th.floor, &r.convergence) {
+        fails.extend(fit.doubts());
+    }
     r.status = if r.error.is_some() {
         Status::Error
     } else if fails.is_empty() {

@@ -32,8 +32,11 @@ Examples:
 
 A step h is used as the sample spacing T/(N-1) over a whole number of steps; the rows give the
 step used. The order is the least-squares slope of log(max error) against log(step) over the
-asymptotic window, found automatically: steps in the round-off floor and pre-asymptotic steps are
-listed with why. See docs/convergence.md.";
+asymptotic window, found automatically; a second run of agreeing slopes is a regime of its own.
+The floor below is judged against the round-off the method's precision allows after that many
+steps (u*|x|*n): \"round-off\" or \"above round-off\" (a solver tolerance, a wrong coefficient);
+--strict exits 1 on a floor above round-off or on competing windows. Every excluded step is
+listed with why (pre-asymptotic, noise, floor). See docs/convergence.md.";
 
 /// Options of `rsts convergence`.
 #[derive(Debug, Clone, ClapArgs)]
@@ -80,6 +83,10 @@ pub struct Args {
     /// Output format
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
+    /// Exit 1 when a fit has an error floor above round-off or competing windows (the report
+    /// is written first)
+    #[arg(long)]
+    pub strict: bool,
 }
 
 pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
@@ -153,6 +160,13 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         Format::Csv => output::write_records_csv(out, &report.rows)?,
         Format::Table => write_table(out, &report)?,
     }
+    let doubts: Vec<String> = report.fits.iter().flat_map(|f| f.doubts()).collect();
+    if args.strict && !doubts.is_empty() {
+        out.flush()?;
+        return Err(
+            crate::commands::validate::Failed(format!("--strict: {}", doubts.join("; "))).into(),
+        );
+    }
     Ok(())
 }
 
@@ -184,11 +198,7 @@ fn write_table(out: &mut dyn Write, report: &ConvergenceReport) -> anyhow::Resul
     }
     output::write_table(out, &t)?;
     for f in &report.fits {
-        writeln!(
-            out,
-            "{}: observed order {:.3} ± {:.3} over steps {:.3e} to {:.3e}",
-            f.method, f.order, f.order_stderr, f.window[0], f.window[1]
-        )?;
+        writeln!(out, "{}: {}", f.method, f.describe())?;
         for e in &f.excluded {
             writeln!(out, "  excluded step {:.3e}: {}", e.step, e.why)?;
         }

@@ -135,6 +135,66 @@ fn known_methods_come_out_at_their_orders() {
     }
 }
 
+/// Floors judged against round-off (issue 33): RK4 with the weight of k2 off by 4e-10 stops near
+/// 1e-9, "above round-off" in the JSON and the table, and `--strict` exits 1 after writing the
+/// report; the classical RK4 swept into its floor is "round-off" and passes `--strict`; RK4 with
+/// an order condition off by 1e-5 has two regimes, order 4 then order 2 (the fit's order).
+/// (Before: the first was "observed order 3.99", its floor "round-off floor", and no --strict.)
+#[test]
+fn floors_are_judged_against_round_off() {
+    let adapter = adapter_rk4();
+    let exec = |t: &str| format!("{} --tableau {t}", s(&adapter));
+    let run = |t: &str, extra: &[&str]| {
+        let mut a = vec![
+            "convergence".to_string(),
+            "--exec".into(),
+            exec(t),
+            "--step".into(),
+            "0.5".into(),
+            "--halvings".into(),
+            "13".into(),
+        ];
+        a.extend(extra.iter().map(|x| x.to_string()));
+        let a: Vec<&str> = a.iter().map(|x| x.as_str()).collect();
+        rsts(&a)
+    };
+    let out = run("rk4-off-weight", &["--strict", "--format", "json"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("above round-off"), "{}", stderr(&out));
+    let report: Value = serde_json::from_slice(&out.stdout).expect("the report, whole");
+    let floor = &report["fits"][0]["floor"];
+    assert_eq!(floor["kind"], "above round-off", "{floor}");
+    assert!(floor["error"].as_f64().unwrap() > 1e3 * floor["expected_round_off"].as_f64().unwrap());
+    let table = String::from_utf8(run("rk4-off-weight", &[]).stdout).unwrap();
+    assert!(table.contains("above round-off"), "{table}");
+    assert!(!table.contains("round-off floor"), "{table}");
+
+    let out = run("rk4", &["--strict", "--format", "json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["fits"][0]["floor"]["kind"], "round-off", "{report}");
+
+    let report = json(&[
+        "--exec",
+        &exec("rk4-near"),
+        "--step",
+        "0.5",
+        "--halvings",
+        "13",
+    ]);
+    let fit = &report["fits"][0];
+    let regimes = fit["regimes"].as_array().unwrap();
+    assert_eq!(regimes.len(), 2, "{fit}");
+    let order = |r: &Value| r["order"].as_f64().unwrap();
+    assert!((order(&regimes[0]) - 4.0).abs() < 0.2, "{fit}");
+    assert!((order(&regimes[1]) - 2.0).abs() < 0.1, "{fit}");
+    assert_eq!(fit["order"], regimes[1]["order"]);
+    assert!(
+        regimes[1]["window"][1].as_f64() < regimes[0]["window"][0].as_f64(),
+        "{fit}"
+    );
+}
+
 /// An adapter that answers the same whatever the step (its own --step wins over the request's)
 /// is refused with exit 2, naming it; nothing is fitted.
 #[test]

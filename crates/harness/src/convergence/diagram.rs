@@ -1,6 +1,8 @@
 //! The convergence diagram: log–log error against the fixed step, as a chart for
-//! [`rsts_plots::render_svg`] — per method the points of its fitted window (line and markers)
-//! and the fitted line C·hᵖ (dashed), the excluded points of every method in grey.
+//! [`rsts_plots::render_svg`] — per method the points of its regimes (line and markers), each
+//! regime's fitted line C·hᵖ (dashed, its order ± the uncertainty to two significant digits in
+//! the legend), its floor's lowest point with the floor's kind in words ("round-off" or
+//! "above round-off"), and the excluded points of every method in grey, their kinds listed.
 
 use rsts_plots::{Chart, Series, Style};
 
@@ -14,6 +16,8 @@ pub fn chart(report: &ConvergenceReport) -> Chart {
     let palette = rsts_plots::PALETTE;
     let mut series = Vec::new();
     let mut excluded = Vec::new();
+    let mut floors: Vec<Series> = Vec::new();
+    let mut kinds = Vec::new();
     for (k, fit) in report.fits.iter().enumerate() {
         let colour = palette[k % palette.len()].to_string();
         let rows: Vec<_> = report
@@ -36,30 +40,63 @@ pub fn chart(report: &ConvergenceReport) -> Chart {
         s.color = Some(colour.clone());
         series.push(s);
         excluded.extend(outside);
-        // The fitted line over its window, a factor 2 beyond each end.
-        let (lo, hi) = (fit.window[0] / 2.0, fit.window[1] * 2.0);
-        let line = |h: f64| 10f64.powf(fit.log10_constant + fit.order * h.log10());
-        let mut s = Series::new(
-            format!(
-                "{} fit: order {:.2} ± {:.2}",
-                fit.method, fit.order, fit.order_stderr
-            ),
-            vec![(lo, line(lo)), (hi, line(hi))],
-            Style::Line,
-        );
-        s.color = Some(colour);
-        s.dashed = true;
-        series.push(s);
+        // Each regime's fitted line over its window, a factor 2 beyond each end; the legend
+        // says the order (its uncertainty to two significant digits) and, with more than one
+        // regime, down to which step.
+        let several = fit.regimes.len() > 1;
+        for (r, regime) in fit.regimes.iter().enumerate() {
+            let (lo, hi) = (regime.window[0] / 2.0, regime.window[1] * 2.0);
+            let line = |h: f64| 10f64.powf(regime.log10_constant + regime.order * h.log10());
+            let order = super::order_with_error(regime.order, regime.order_stderr);
+            let label = if !several {
+                format!("{} fit: order {order}", fit.method)
+            } else if fit.competing {
+                format!(
+                    "{} fit: order {order} (competing window, h {:.1e} to {:.1e})",
+                    fit.method, regime.window[0], regime.window[1]
+                )
+            } else if r + 1 < fit.regimes.len() {
+                format!(
+                    "{} fit: order {order} down to h = {:.1e}",
+                    fit.method, regime.window[0]
+                )
+            } else {
+                format!("{} fit: then order {order} (asymptotic)", fit.method)
+            };
+            let mut s = Series::new(label, vec![(lo, line(lo)), (hi, line(hi))], Style::Line);
+            s.color = Some(colour.clone());
+            s.dashed = true;
+            series.push(s);
+        }
+        // The floor: its lowest point, in the method's colour, its kind in words.
+        if let Some(f) = &fit.floor {
+            if let Some(r) = rows.iter().find(|r| r.max_error == f.error) {
+                let mut s = Series::new(
+                    format!("{} floor {:.1e}: {}", fit.method, f.error, f.kind.as_str()),
+                    vec![(r.step, r.max_error)],
+                    Style::Markers,
+                );
+                s.color = Some(colour.clone());
+                floors.push(s);
+            }
+        }
+        for e in &fit.excluded {
+            if !kinds.contains(&e.kind) {
+                kinds.push(e.kind);
+            }
+        }
     }
     if !excluded.is_empty() {
-        let mut s = Series::new(
-            "excluded: round-off floor, pre-asymptotic",
-            excluded,
-            Style::Markers,
-        );
+        let names: Vec<&str> = kinds
+            .iter()
+            .map(|k: &super::ExcludedKind| k.as_str())
+            .collect();
+        let label = format!("excluded: {}", names.join(", "));
+        let mut s = Series::new(label, excluded, Style::Markers);
         s.color = Some(EXCLUDED_GREY.into());
         series.push(s);
     }
+    series.extend(floors);
     let c = &report.case;
     Chart::log_log(
         format!(

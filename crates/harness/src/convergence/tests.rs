@@ -24,7 +24,9 @@ fn the_window_leaves_out_the_floor_and_the_pre_asymptotic_steps() {
         .zip(noise)
         .map(|(&h, n)| 1e-3 * h.powi(4) * (1.0 + 40.0 * h * h) + 1e-13 * n)
         .collect();
-    let fit = fit_order(&steps, &errors).unwrap();
+    // Round-off expected: 1e-13 at every step (the floor's level).
+    let round_off = vec![1e-13; steps.len()];
+    let fit = fit_order(&steps, &errors, &round_off).unwrap();
     assert!((fit.order - 4.0).abs() < 0.1, "{fit:?}");
     assert!(fit.order_stderr < 0.1, "{fit:?}");
     let why = |h: f64| {
@@ -38,9 +40,9 @@ fn the_window_leaves_out_the_floor_and_the_pre_asymptotic_steps() {
     assert!(why(steps[12]).starts_with("round-off floor"), "{fit:?}");
     assert!(fit.window[0] > steps[12] && fit.window[1] < 0.5, "{fit:?}");
     // Too few points, and a sweep with no window (the error never falls).
-    assert!(fit_order(&steps[..2], &errors[..2]).is_err());
+    assert!(fit_order(&steps[..2], &errors[..2], &round_off[..2]).is_err());
     let flat = vec![1e-10; steps.len()];
-    assert!(fit_order(&steps, &flat)
+    assert!(fit_order(&steps, &flat, &round_off)
         .unwrap_err()
         .contains("no asymptotic window"));
 }

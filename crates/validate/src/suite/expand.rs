@@ -214,6 +214,11 @@ pub(super) fn expand_case(
             "min_order holds convergence cases only (give convergence = { steps = [...] })".into(),
         ));
     }
+    if thresholds.floor.is_some() && spec.convergence.is_none() {
+        return Err(e(
+            "floor holds convergence cases only (give convergence = { steps = [...] })".into(),
+        ));
+    }
     if thresholds.closed_form_f64.is_none() {
         thresholds.closed_form_f64 = Some(DEFAULT_CLOSED_FORM_F64);
     }

@@ -34,6 +34,17 @@ pub struct Thresholds {
     /// Convergence runs: the observed order must be at least this.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub min_order: Option<f64>,
+    /// Convergence runs: `"round-off"` fails a floor above round-off and competing windows
+    /// (what `rsts convergence --strict` exits 1 on; docs/convergence.md).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub floor: Option<FloorThreshold>,
+}
+
+/// The only floor a suite may require: round-off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+pub enum FloorThreshold {
+    #[serde(rename = "round-off")]
+    RoundOff,
 }
 
 impl Thresholds {
@@ -50,6 +61,7 @@ impl Thresholds {
             closed_form_f64: self.closed_form_f64.or(base.closed_form_f64),
             closed_form_residual: self.closed_form_residual.or(base.closed_form_residual),
             min_order: self.min_order.or(base.min_order),
+            floor: self.floor.or(base.floor),
         }
     }
 
