@@ -163,9 +163,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let doubts: Vec<String> = report.fits.iter().flat_map(|f| f.doubts()).collect();
     if args.strict && !doubts.is_empty() {
         out.flush()?;
-        return Err(
-            crate::commands::validate::Failed(format!("--strict: {}", doubts.join("; "))).into(),
-        );
+        return Err(crate::failure::Failed(format!("--strict: {}", doubts.join("; "))).into());
     }
     Ok(())
 }
