@@ -84,6 +84,9 @@ pub struct Args {
     /// Exit with status 1 when the max state error exceeds E
     #[arg(long, value_name = "E", value_parser = finite_f64)]
     pub max_error: Option<f64>,
+    /// Report a first row far from the motion given (a start offset) without exiting 1
+    #[arg(long)]
+    pub allow_start_offset: bool,
     /// Events the integrator detected: CSV with columns name and t, or JSON {"events": [{"name", "t"}]}, matched
     /// with the exact events of the same names in (t_first, t_last] of the trajectory
     #[arg(long, value_name = "EVENTS")]
@@ -393,6 +396,9 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
             Some(match_events(&exact, found))
         }
     };
+    if let Some(offset) = &report.start_offset {
+        eprintln!("warning: {}: {}", args.file.display(), offset.describe());
+    }
     let doc = Document {
         report: &report,
         mcap: mcap.clone(),
@@ -461,6 +467,15 @@ fn run_reading(args: &Args, out: &mut dyn Write, one_pass: bool) -> anyhow::Resu
     {
         out.flush()?;
         return Err(Failed(format!("{}: {why}", args.file.display())).into());
+    }
+    if let (Some(offset), false) = (&report.start_offset, args.allow_start_offset) {
+        out.flush()?;
+        return Err(Failed(format!(
+            "{}: start offset {:.3e} (--allow-start-offset to report it without failing)",
+            args.file.display(),
+            offset.error
+        ))
+        .into());
     }
     if let Some(limit) = args.max_error {
         let e = report.report.max_state_error;
