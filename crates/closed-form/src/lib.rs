@@ -23,7 +23,7 @@ pub mod separated;
 
 pub use camera::{Camera, EXAMPLE_POINTS_A1_B05};
 pub use constants::{check_ranges, IntegralConstants, SigmaCurve};
-pub use error::ClosedFormError;
+pub use error::{tori_phrase, ClosedFormError};
 pub use formulas::{BodyState, ExplicitState};
 pub use motion::{BatchPath, DdPath, ExplicitMotion, InputError, Motion, TorusChoice};
 pub use rsts_dynamics::number::{Decimal, NumberError, Times};

@@ -592,6 +592,12 @@ fn finish(
             ));
         }
     }
+    if let (Some(offset), false) = (&report.start_offset, settings.limits.allow_start_offset) {
+        reasons.push(format!(
+            "{}: start offset {:.3e} (--allow-start-offset to report it without failing)",
+            report.file, offset.error
+        ));
+    }
     Ok(CheckOutcome {
         report,
         mcap: settings.mcap.map(|m| m.path.display().to_string()),

@@ -11,6 +11,9 @@ pub struct Limits {
     pub max_error: Option<f64>,
     /// Largest event time error allowed, and no event missed among those looked for.
     pub max_event_error: Option<f64>,
+    /// A first sample far from the given motion (`start_offset` in the report) is reported
+    /// without failing the run.
+    pub allow_start_offset: bool,
 }
 
 /// Whether a run met its limits.

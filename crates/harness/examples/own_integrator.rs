@@ -1,6 +1,7 @@
 //! A user-defined integrator checked by the harness: the explicit midpoint rule (second order)
 //! with a fixed step, written here from the vector field alone, compared with the closed form
-//! and benchmarked against the built-in Dop853.
+//! and benchmarked against the built-in Dop853, and its order observed at fixed steps
+//! (`rsts convergence` in-process: `rsts_harness::convergence`).
 //!
 //! `cargo run --release -p rsts-harness --example own_integrator`
 
@@ -8,10 +9,34 @@ use rsts_dynamics::integrators::{
     MethodConfig, MethodName, OutputGrid, Problem, Propagator, Solution, Stats, Tolerances,
 };
 use rsts_dynamics::{DynamicsError, State, VectorField};
+use rsts_harness::convergence::FixedStepIntegrator;
+use rsts_harness::rug::Float;
 use rsts_harness::{
-    compare_integrator, measure_against, measure_integrator, reference_bits_for, Case,
-    CompareOptions, NoObserver, Propagated, Reference,
+    compare_integrator, convergence, measure_against, measure_integrator, reference_bits_for, Case,
+    CompareOptions, ConvergencePlan, HarnessError, Integrator, NoObserver, Propagated, Reference,
+    Trajectory,
 };
+
+/// The midpoint rule at the fixed step a convergence study asks (every sample the end of a
+/// step): the signature takes `Problem<rug::Float>`, with `rug` as the harness re-exports it.
+struct FixedMidpoint;
+
+impl FixedStepIntegrator for FixedMidpoint {
+    fn name(&self) -> String {
+        "midpoint".into()
+    }
+    fn working_bits(&self) -> u32 {
+        53
+    }
+    fn integrate_at(
+        &mut self,
+        step: f64,
+        problem: &Problem<Float>,
+        times: &[f64],
+    ) -> Result<Trajectory, HarnessError> {
+        Propagated::new(Midpoint { step }).integrate(problem, times)
+    }
+}
 
 /// The explicit midpoint rule: y ← y + h f(y + h/2 f(y)), a whole number of steps per sample.
 struct Midpoint {
@@ -99,6 +124,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             row.integration_seconds
         );
     }
+    // convergence: the observed order at fixed steps (the default sweep: min(0.5, the sample
+    // spacing) and 8 halvings), with its floor judged.
+    let case = Case::default_i_plus();
+    let plan = ConvergencePlan::new(case.clone(), &ConvergencePlan::default_steps(&case))?;
+    let report = convergence(&plan, &mut [&mut FixedMidpoint])?;
+    println!(
+        "\n{}: {}\n",
+        report.fits[0].method,
+        report.fits[0].describe()
+    );
     let dop853 = MethodConfig::new(MethodName::Dop853, Tolerances::new(1e-8, 1e-8)?, None)?;
     let row = measure_against(&reference, &dop853, 3)?;
     println!(

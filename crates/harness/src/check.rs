@@ -95,6 +95,9 @@ pub struct CheckReport {
     /// Relative distance of the first sample from N (identification only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub start_distance_from_n: Option<f64>,
+    /// The first sample far from the motion given ([`StartOffset`]); absent when it is not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub start_offset: Option<StartOffset>,
     #[serde(flatten)]
     pub report: Report,
     /// Times of the first and last sample given (not serialised: the table shows them).
@@ -103,6 +106,111 @@ pub struct CheckReport {
     /// Samples given (the report's `samples_compared` is smaller when the run was stopped).
     #[serde(skip)]
     pub samples_given: usize,
+}
+
+/// What a message about a first row off N adds when a, b are the defaults (1, 0.5): that they
+/// are, and how to give others.
+fn fields_hint(a: &Decimal, b: &Decimal) -> String {
+    if a.to_f64() == 1.0 && b.to_f64() == 0.5 {
+        "; a and b default to 1 and 0.5: if the data are of other fields, give them with \
+         --a A --b B (Python: a=, b=)"
+            .into()
+    } else {
+        String::new()
+    }
+}
+
+/// A start state error above this, times max(1, |x₀|) (the first sample's largest component),
+/// is a start offset: far above what data of any precision carry, so the motion checked
+/// against is not the data's.
+pub const START_OFFSET: f64 = 1e-6;
+
+/// The first sample far from the motion given (issue 33, item 5): the error there, and the
+/// motion the first sample identifies on N of the same a, b.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StartOffset {
+    /// The start state error.
+    pub error: f64,
+    /// Where a start offset begins: [`START_OFFSET`]·max(1, |x₀|).
+    pub threshold: f64,
+    /// The motion the first sample identifies (phases at t = 0), when it does.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub identified: Option<Motion>,
+    /// Its camera, when it has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub camera: Option<rsts_closed_form::Camera>,
+    /// Why no motion was identified.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_identified: Option<String>,
+}
+
+impl StartOffset {
+    /// The offset and the motion of the data, in words.
+    pub fn describe(&self) -> String {
+        let mut s = format!(
+            "the first sample is {:.3e} from the motion given (more than {:.0e}): it is not a \
+             sample of that motion",
+            self.error, self.threshold
+        );
+        match (&self.identified, &self.not_identified) {
+            (Some(m), _) => s.push_str(&format!(
+                "; it identifies camera {}, m = {}, h = {}, torus {}, phases {:.12}, {:.12} at \
+                 t = 0 (give those, or check without --m/--h to identify it)",
+                self.camera.map_or("?".to_string(), |c| c.to_string()),
+                m.m,
+                m.h,
+                m.torus,
+                m.phase1.to_f64(),
+                m.phase2.to_f64()
+            )),
+            (None, Some(why)) => s.push_str(&format!("; it identifies no motion: {why}")),
+            (None, None) => {}
+        }
+        s
+    }
+
+    /// Judge the first sample (time `t0`, state `first`) of a check against `case` given, its
+    /// start state error `error`: `None` when it is no offset.
+    pub fn judge(
+        case: &CheckedCase,
+        error: f64,
+        t0: &Float,
+        first: &State<Float>,
+    ) -> Option<StartOffset> {
+        if case.identified {
+            return None;
+        }
+        let size = first
+            .to_array()
+            .iter()
+            .map(|x| x.to_f64().abs())
+            .fold(1.0, f64::max);
+        let threshold = START_OFFSET * size;
+        if !(error.is_nan() || error > threshold) {
+            return None;
+        }
+        let (a, b) = (&case.motion.a, &case.motion.b);
+        let (identified, camera, not_identified) = match identify_case(a, b, t0, first) {
+            Ok((c, _)) => {
+                let m = c.motion;
+                let camera = rsts_closed_form::diagram::camera_at(
+                    a.to_f64(),
+                    b.to_f64(),
+                    m.m.to_f64(),
+                    m.h.to_f64(),
+                );
+                (Some(m), camera, None)
+            }
+            Err(e) => (None, None, Some(e.to_string())),
+        };
+        Some(StartOffset {
+            error,
+            threshold,
+            identified,
+            camera,
+            not_identified,
+        })
+    }
 }
 
 /// Identify the motion from the first sample (time `t0`, at the reference precision): (m, h,
@@ -114,6 +222,7 @@ pub fn identify_case(
     first: &State<Float>,
 ) -> Result<(CheckedCase, f64), HarnessError> {
     let bits = t0.prec();
+    let hint = fields_hint(a, b);
     let id = identify(&a.to_float(bits), &b.to_float(bits), first).map_err(|e| {
         HarnessError::Data(match e {
             IdentifyError::Input(msg) => format!("first row: {msg}"),
@@ -123,14 +232,14 @@ pub fn identify_case(
                 distance,
                 reason,
             } => format!(
-                "first row: not a state of a motion on N of a = {a}, b = {b}: its (m, h) = ({m}, {h}) has no torus ({reason}); its relative distance from N is {distance:.3e}"
+                "first row: not a state of a motion on N of a = {a}, b = {b}: its (m, h) = ({m}, {h}) has no torus ({reason}); its relative distance from N is {distance:.3e}{hint}"
             ),
         })
     })?;
     let relative = id.distance.relative.to_f64();
     if relative.is_nan() || relative > ON_N_TOLERANCE {
         return Err(HarnessError::Data(format!(
-            "first row: not on N of a = {a}, b = {b}: its relative distance from N is {relative:.3e} (> {ON_N_TOLERANCE:e}); give the motion with --m, --h (and --torus, --phase1, --phase2) to check it anyway"
+            "first row: not on N of a = {a}, b = {b}: its relative distance from N is {relative:.3e} (> {ON_N_TOLERANCE:e}); give the motion with --m, --h (and --torus, --phase1, --phase2) to check it anyway{hint}"
         )));
     }
     // The identified numbers as decimals that round back to them at this precision.
@@ -359,7 +468,67 @@ mod tests {
         assert!(report.report.max_state_error < 1e-40, "{report:?}");
     }
 
-    /// A first sample off N is refused; a motion given that does not exist is refused before
+    /// Samples of the motion with phases (0.4, 1.1) checked against the same (m, h) at phases
+    /// (0, 0): the start is an offset, named with the motion the first sample identifies
+    /// (camera I+, torus 0, phases 0.4 and 1.1); checked against their own motion, none.
+    /// (Before issue 33 the report only had `start_state_error`, and nothing said it.)
+    #[test]
+    fn a_start_offset_names_the_motion_of_the_data() {
+        let d = |s: &str| Decimal::parse(s).unwrap();
+        let motion = Motion::default_i_plus().on_torus(0, [d("0.4"), d("1.1")]);
+        let case = Case::new(motion.clone(), d("10"), 11);
+        let bits = request(None).reference_bits();
+        let (exact, _) = case.reference_motion(bits).unwrap();
+        let times: Vec<Float> = [0.0, 1.0, 2.0]
+            .iter()
+            .map(|&t| Float::with_val(bits, t))
+            .collect();
+        let states: Vec<State<Float>> = times
+            .iter()
+            .map(|t| crate::metrics::exact_state(&exact.at(t)))
+            .collect();
+        let wrong = request(Some(Motion::default_i_plus()));
+        let report = check(&wrong, &times, &states, &mut NoObserver).unwrap();
+        let offset = report.start_offset.clone().expect("a start offset");
+        assert!(offset.error > 1e-2 && offset.error == report.start_state_error);
+        let found = offset.identified.clone().expect("identified");
+        assert_eq!(found.torus, 0);
+        assert!((found.phase1.to_f64() - 0.4).abs() < 1e-9, "{offset:?}");
+        assert!((found.phase2.to_f64() - 1.1).abs() < 1e-9, "{offset:?}");
+        assert_eq!(offset.camera, Some(rsts_closed_form::Camera::IPlus));
+        let text = offset.describe();
+        assert!(
+            text.contains("not a sample of that motion") && text.contains("camera I+"),
+            "{text}"
+        );
+        let right = request(Some(motion));
+        let report = check(&right, &times, &states, &mut NoObserver).unwrap();
+        assert!(report.start_offset.is_none(), "{:?}", report.start_offset);
+    }
+
+    /// A first row off N for the default fields says they are the defaults and how to give
+    /// others (old text: "first row: not on N of a = 1, b = 0.5: its relative distance from N
+    /// is … to check it anyway", nothing about the defaults).
+    #[test]
+    fn off_n_with_default_fields_says_they_are_defaults() {
+        let r = request(None);
+        let bits = r.reference_bits();
+        let f = |x: f64| Float::with_val(bits, x);
+        let off = State {
+            omega: [f(0.3), f(-0.2), f(0.5)],
+            alpha: [f(1.0), f(0.0), f(0.0)],
+            beta: [f(0.0), f(1.0), f(0.0)],
+        };
+        let e = check(&r, &[f(0.0)], std::slice::from_ref(&off), &mut NoObserver)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("a and b default to 1 and 0.5") && e.contains("--a A --b B"),
+            "{e}"
+        );
+    }
+
+    /// A first row off N is refused; a motion given that does not exist is refused before
     /// any data are read; empty and mismatched data are refused.
     #[test]
     fn bad_requests_and_data_are_refused() {

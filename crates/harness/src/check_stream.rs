@@ -19,6 +19,8 @@ use crate::HarnessError;
 pub struct CheckStream {
     check: Check,
     start_error: Option<f64>,
+    /// The first sample (time, state), for the start-offset verdict.
+    first: Option<(Float, State<Float>)>,
     span: (f64, f64),
     given: usize,
     stopped: bool,
@@ -30,6 +32,7 @@ impl CheckStream {
         Self {
             check,
             start_error: None,
+            first: None,
             span: (f64::NAN, f64::NAN),
             given: 0,
             stopped: false,
@@ -62,6 +65,15 @@ impl CheckStream {
                 return self.feed_f64(&t, &s, observer);
             }
         }
+        if self.first.is_none() {
+            let bits = self.check.analysis.bits();
+            self.first = times.first().zip(states.first()).map(|(t, x)| {
+                (
+                    Float::with_val(bits, t),
+                    x.map(|v| Float::with_val(bits, v)),
+                )
+            });
+        }
         let span = times.first().zip(times.last());
         let span = span.map(|(a, b)| (a.to_f64(), b.to_f64()));
         let reach = times.iter().fold(0.0, |m: f64, t| m.max(t.to_f64().abs()));
@@ -78,6 +90,15 @@ impl CheckStream {
         states: &[[f64; DIM]],
         observer: &mut dyn Observer,
     ) -> Result<bool, HarnessError> {
+        if self.first.is_none() {
+            self.first = times.first().zip(states.first()).map(|(t, x)| {
+                let bits = self.check.analysis.bits();
+                (
+                    Float::with_val(bits, t),
+                    State::from_slice(x).map(|v| Float::with_val(bits, v)),
+                )
+            });
+        }
         let span = times.first().zip(times.last()).map(|(a, b)| (*a, *b));
         let reach = times.iter().fold(0.0, |m: f64, t| m.max(t.abs()));
         self.feed_with(span, times.len(), states.len(), reach, |analysis| {
@@ -134,10 +155,15 @@ impl CheckStream {
             analysis,
             ..
         } = self.check;
+        let start_state_error = self.start_error.unwrap_or(f64::NAN);
+        let start_offset = self.first.as_ref().and_then(|(t0, x0)| {
+            crate::check::StartOffset::judge(&case, start_state_error, t0, x0)
+        });
         CheckReport {
             file,
             case,
-            start_state_error: self.start_error.unwrap_or(f64::NAN),
+            start_state_error,
+            start_offset,
             start_distance_from_n: distance,
             report: analysis.finish(),
             span: self.span,

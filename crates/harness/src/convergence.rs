@@ -82,7 +82,16 @@ impl FixedStepMethod {
         match (taylor, order) {
             (true, None) => Err(HarnessError::setting(
                 &["methods", "order"],
-                format!("{method} at fixed steps needs a fixed order (--order P)"),
+                format!(
+                    "{method} at fixed steps needs a fixed order (--order P); try --order {} \
+                 (its error then reaches the {} round-off within a sweep of 8 halvings from 0.5)",
+                    suggested_order(method),
+                    if method == MethodName::TaylorF64 {
+                        "f64"
+                    } else {
+                        "working precision's"
+                    }
+                ),
             )),
             (true, Some(p)) => {
                 Taylor::fixed(p, 1.0)
@@ -99,6 +108,15 @@ impl FixedStepMethod {
                 digits,
             }),
         }
+    }
+}
+
+/// The order suggested to a Taylor method given none: 8 in f64, 16 in double-double, 24 in MPFR.
+pub fn suggested_order(method: MethodName) -> usize {
+    match method {
+        MethodName::TaylorF64 => 8,
+        MethodName::TaylorDd => 16,
+        _ => 24,
     }
 }
 
@@ -250,6 +268,18 @@ impl ConvergencePlan {
             ));
         }
         Ok(Self { case, steps: used })
+    }
+}
+
+/// Halvings of the default sweep ([`ConvergencePlan::default_steps`]).
+pub const DEFAULT_HALVINGS: u32 = 8;
+
+impl ConvergencePlan {
+    /// The default sweep when no steps are given: H, H/2, …, H/2⁸ with H = min(0.5, Δ), Δ =
+    /// T/(N − 1) the sample spacing (T = 10, N = 11: 0.5 down to 0.00195).
+    pub fn default_steps(case: &Case) -> Vec<f64> {
+        let spacing = case.t_end_f64() / (case.samples.max(2) - 1) as f64;
+        halvings(spacing.min(0.5), DEFAULT_HALVINGS)
     }
 }
 

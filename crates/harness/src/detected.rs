@@ -26,8 +26,9 @@ pub const MAX_DETECTED_LINE_BYTES: u64 = 1 << 20;
 /// Most events one file may list.
 pub const MAX_DETECTED_EVENTS: usize = 1_000_000;
 
-/// The events found so far, each checked as it comes: a known name, a finite time, not before
-/// the previous one, not more than [`MAX_DETECTED_EVENTS`].
+/// The events found so far, each checked as it comes: a known name, a finite time, not more
+/// than [`MAX_DETECTED_EVENTS`]. Any order: [`Found::sorted`] puts them in time order (scipy's
+/// `t_events` comes grouped by event).
 #[derive(Default)]
 struct Found(Vec<DetectedEvent>);
 
@@ -44,15 +45,6 @@ impl Found {
         if !t.is_finite() {
             return Err(format!("{place}: the time is not a finite number"));
         }
-        if let Some(last) = self.0.last() {
-            if t < last.t {
-                return Err(format!(
-                    "{place}: t = {} is before the previous event's t = {}; list events in time order",
-                    rsts_dynamics::shown(t),
-                    rsts_dynamics::shown(last.t)
-                ));
-            }
-        }
         if self.0.len() >= MAX_DETECTED_EVENTS {
             return Err(format!(
                 "{place}: more than {MAX_DETECTED_EVENTS} events, the most one file may list"
@@ -61,11 +53,17 @@ impl Found {
         self.0.push(DetectedEvent { name, t });
         Ok(())
     }
+
+    /// The events in time order (a stable sort: events at the same time keep the file's order).
+    fn sorted(mut self) -> Vec<DetectedEvent> {
+        self.0.sort_by(|a, b| a.t.total_cmp(&b.t));
+        self.0
+    }
 }
 
 /// Detected events from a file's text ([`read_detected`] of text in memory). Errors name the
-/// line (CSV) or the entry (JSON): unknown names, times that are not finite numbers or not in
-/// increasing order.
+/// line (CSV) or the entry (JSON): unknown names, times that are not finite numbers. The events
+/// may come in any order; they are returned in time order.
 pub fn parse_detected(text: &str) -> Result<Vec<DetectedEvent>, String> {
     detected_from(text.as_bytes())
 }
@@ -155,7 +153,7 @@ fn read_csv(mut input: impl BufRead) -> Result<Vec<DetectedEvent>, String> {
     if columns.is_none() {
         return Err(format!("empty file: {missing}"));
     }
-    Ok(found.0)
+    Ok(found.sorted())
 }
 
 /// The JSON document, parsed as a stream: only `events` is read, each entry's `name` and `t`
@@ -177,7 +175,7 @@ fn read_json(input: impl Read) -> Result<Vec<DetectedEvent>, String> {
     if !seen {
         return Err("JSON without an \"events\" array".into());
     }
-    Ok(found.0)
+    Ok(found.sorted())
 }
 
 /// The top-level object: true when it had an `events` array.
@@ -426,17 +424,38 @@ mod tests {
         assert!(e.starts_with("invalid JSON"), "{e}");
     }
 
+    /// Events in any order (scipy's `t_events` grouped by event) are read and sorted by time
+    /// (old: "line 3: t = 0.5 is before the previous event's t = 1e300; list events in time
+    /// order"), in CSV and JSON alike.
+    #[test]
+    fn events_in_any_order_are_sorted() {
+        let csv = parse_detected("name,t\nomega1,3\nomega1,7\nalpha3,1\nalpha3,5\n").unwrap();
+        let json = parse_detected(
+            r#"{"events": [{"name": "omega1", "t": 3}, {"name": "omega1", "t": 7},
+                           {"name": "alpha3", "t": 1}, {"name": "alpha3", "t": 5}]}"#,
+        )
+        .unwrap();
+        for found in [csv, json] {
+            let order: Vec<(String, f64)> =
+                found.iter().map(|e| (e.name.to_string(), e.t)).collect();
+            assert_eq!(
+                order,
+                vec![
+                    ("alpha3".to_string(), 1.0),
+                    ("omega1".to_string(), 3.0),
+                    ("alpha3".to_string(), 5.0),
+                    ("omega1".to_string(), 7.0)
+                ]
+            );
+        }
+    }
+
     /// Long values are cut in messages and numbers printed short.
     #[test]
     fn messages_cut_long_values() {
         let long = "9".repeat(5000);
         let e = parse_detected(&format!("name,t\nomega1,{long}x\n")).unwrap_err();
         assert!(e.len() < 200 && e.contains("(5001 characters)"), "{e}");
-        let e = parse_detected("name,t\nomega1,1e300\nomega1,0.5\n").unwrap_err();
-        assert_eq!(
-            e,
-            "line 3: t = 0.5 is before the previous event's t = 1e300; list events in time order"
-        );
         let e = parse_detected(&format!("name,t\n{long},1\n")).unwrap_err();
         assert!(e.len() < 400, "{e}");
     }

@@ -68,6 +68,10 @@ pub use digits::CorrectDigits;
 pub use integrator::{check_times, Integrator, Propagated, Trajectory};
 pub use metrics::{Drift, Report, SampleErrors, SampleRecord, StateSnapshot, StatedStats};
 pub use rsts_dynamics::integrators::MethodConfig;
+/// The crates the harness's signatures use (`Problem<rug::Float>`, `State`, …), re-exported so a
+/// user depends on `rsts-harness` alone, with the workspace's exact `rug` features (GMP and MPFR
+/// built once).
+pub use {rsts_closed_form, rsts_dynamics, rug};
 
 /// Errors of a comparison. A face reads the inputs an error concerns from its variant
 /// ([`HarnessError::parameters`]) and its kind from the variant too; no message is parsed.

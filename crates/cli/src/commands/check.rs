@@ -84,6 +84,9 @@ pub struct Args {
     /// Exit with status 1 when the max state error exceeds E
     #[arg(long, value_name = "E", value_parser = finite_f64)]
     pub max_error: Option<f64>,
+    /// Report a first row far from the motion given (a start offset) without exiting 1
+    #[arg(long)]
+    pub allow_start_offset: bool,
     /// Events the integrator detected: CSV with columns name and t, or JSON {"events": [{"name", "t"}]}, matched
     /// with the exact events of the same names in (t_first, t_last] of the trajectory
     #[arg(long, value_name = "EVENTS")]
@@ -172,6 +175,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         limits: Limits {
             max_error: args.max_error,
             max_event_error: args.max_event_error,
+            allow_start_offset: args.allow_start_offset,
         },
     };
     // Samples come in microseconds: the bar is ticked every 256.
@@ -181,6 +185,9 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let outcome = outcome.map_err(|e| flow_error(e, "--mcap"))?;
     let report = &outcome.report;
     let case = &report.case;
+    if let Some(offset) = &report.start_offset {
+        eprintln!("warning: {}: {}", report.file, offset.describe());
+    }
     match args.format {
         Format::Json => output::write_json(out, &outcome)?,
         Format::Csv => output::write_records_csv(out, &[&outcome])?,

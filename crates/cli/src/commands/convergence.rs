@@ -22,6 +22,9 @@ Examples:
   # rk4 and dopri5 at steps 0.5, 0.25, ..., 0.5/2^6 over T = 10 (camera I+), orders fitted
   rsts convergence --methods rk4,dopri5 --step 0.5 --halvings 6
 
+  # no steps: the default sweep, min(0.5, T/(N-1)) and 8 halvings
+  rsts convergence --methods rk4,dopri5
+
   # Taylor at a fixed order 6, given steps, JSON and a log-log diagram
   rsts convergence --methods taylor-f64 --order 6 --steps 0.5,0.25,0.125,0.0625,0.03125 \\
       --format json --svg out/convergence.svg
@@ -68,7 +71,8 @@ pub struct Args {
     /// rtol = atol sent to --exec integrators with the step (heyoka takes its order from it)
     #[arg(long, value_name = "R", default_value = "1e-10", value_parser = finite_f64, allow_hyphen_values = true)]
     pub exec_tolerance: f64,
-    /// Steps, comma-separated (at least 3)
+    /// Steps, comma-separated (at least 3); without --steps and --step, the default sweep:
+    /// min(0.5, T/(N-1)) and 8 halvings
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = finite_f64, conflicts_with_all = ["step", "halvings"])]
     pub steps: Option<Vec<f64>>,
     /// Largest step H of a sweep H, H/2, ..., H/2^K (with --halvings)
@@ -98,7 +102,17 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
             }
             halvings(h, k)
         }
-        _ => bail!("--steps or --step with --halvings: give the fixed steps to run"),
+        _ => {
+            let steps = ConvergencePlan::default_steps(&args.case.case(&args.t_end, args.samples));
+            eprintln!(
+                "steps: none given, the default sweep {} to {} ({} halvings; --steps or --step \
+                 with --halvings to choose)",
+                steps[0],
+                rsts_dynamics::short(steps[steps.len() - 1]),
+                steps.len() - 1
+            );
+            steps
+        }
     };
     if !(10..=MAX_MP_DIGITS).contains(&args.digits) {
         bail!(

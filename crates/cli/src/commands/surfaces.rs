@@ -172,10 +172,9 @@ pub fn run(args: Args, _out: &mut dyn Write) -> anyhow::Result<()> {
         .map_err(case_error)?;
     let tori: Vec<usize> = match args.torus {
         Some(k) if k >= first.tori => bail!(
-            "--torus {k}: camera {} has {} torus/tori (0..{})",
+            "--torus {k}: camera {} has {}",
             first.camera,
-            first.tori,
-            first.tori
+            rsts_closed_form::tori_phrase(first.tori)
         ),
         Some(k) => vec![k],
         None => (0..first.tori).collect(),

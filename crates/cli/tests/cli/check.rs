@@ -294,6 +294,60 @@ fn a_first_row_off_n_is_an_error_with_its_distance() {
         "{err}"
     );
     assert!(err.contains("--m"), "says how to check anyway: {err}");
+    assert!(
+        err.contains("a and b default to 1 and 0.5") && err.contains("--a A --b B"),
+        "says a, b are the defaults and how to give them: {err}"
+    );
+}
+
+/// Data of one motion checked against another (same m, h; phases 0.4, 1.1 against 0, 0): the
+/// start offset is said first on stderr with the motion the first row identifies, the report is
+/// written, and the run exits 1 unless --allow-start-offset. (Before issue 33: exit 0, nothing
+/// on stderr, only "start state error" in the report.)
+#[test]
+fn a_start_offset_is_said_and_exits_1() {
+    let out = ok(&[
+        "reference",
+        "--t-end",
+        "3",
+        "--samples",
+        "7",
+        "--phase1",
+        "0.4",
+        "--phase2",
+        "1.1",
+    ]);
+    let file = write("offset.csv", &out.stdout);
+    let out = rsts(&[
+        "check", &file, "--m", "0.3", "--h", "-0.375", "--format", "json",
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.starts_with("warning:")
+            && err.contains("not a sample of that motion")
+            && err.contains("camera I+")
+            && err.contains("phases 0.4000")
+            && err.contains("--allow-start-offset"),
+        "{err}"
+    );
+    let r: Value = serde_json::from_slice(&out.stdout).expect("the report, whole");
+    assert!(r["start_offset"]["error"].as_f64().unwrap() > 1e-3, "{r}");
+    assert_eq!(r["start_offset"]["identified"]["torus"], 0, "{r}");
+    let r = json_of(&[
+        "check",
+        &file,
+        "--m",
+        "0.3",
+        "--h",
+        "-0.375",
+        "--allow-start-offset",
+    ]);
+    assert!(r["start_offset"].is_object(), "{r}");
+    let r = json_of(&[
+        "check", &file, "--m", "0.3", "--h", "-0.375", "--phase1", "0.4", "--phase2", "1.1",
+    ]);
+    assert!(r.get("start_offset").is_none(), "{r}");
 }
 
 /// High-precision data (40 digits) are read exactly: the closed form's own samples have no

@@ -195,6 +195,40 @@ fn floors_are_judged_against_round_off() {
     );
 }
 
+/// Day-one defaults (issue 33, item 6): no steps runs the default sweep 0.5 … 0.5/2⁸ (said on
+/// stderr; before: "--steps or --step with --halvings: give the fixed steps to run", exit 2);
+/// taylor-f64 without --order is refused with an order suggested (before: "needs a fixed order
+/// (--order P)" only); the table prints the order's uncertainty with two significant digits.
+#[test]
+fn defaults_for_a_newcomer() {
+    let out = rsts(&["convergence", "--methods", "rk4,dopri5"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stderr(&out).contains("default sweep"), "{}", stderr(&out));
+    let table = String::from_utf8(out.stdout).unwrap();
+    assert!(table.contains("rk4: observed order 4."), "{table}");
+    let out = rsts(&["convergence", "--methods", "rk4", "--format", "json"]);
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let steps: Vec<f64> = report["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["step"].as_f64().unwrap())
+        .collect();
+    assert_eq!(steps.len(), 9);
+    assert_eq!(steps[0], 0.5);
+    assert_eq!(steps[8], 0.5 / 256.0);
+    let err = exit_2(
+        &rsts(&["convergence", "--methods", "taylor-f64"]),
+        "taylor without --order",
+    );
+    assert!(err.contains("try --order 8"), "{err}");
+    // Two significant digits of the uncertainty: "± 0.0053", never "± 0.00".
+    assert!(
+        !table.contains("± 0.00 ") && !table.contains("± 0.000 "),
+        "{table}"
+    );
+}
+
 /// An adapter that answers the same whatever the step (its own --step wins over the request's)
 /// is refused with exit 2, naming it; nothing is fitted.
 #[test]

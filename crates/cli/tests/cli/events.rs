@@ -247,6 +247,21 @@ fn check_events_reports_one_missed_event_and_names_bad_lines() {
         .collect();
     assert_eq!(missed.len(), 1);
     assert_eq!(missed[0]["t_exact"], all[2]["t"]);
+    // The same events in reverse order (as a file grouped by event may list them): read and
+    // sorted, the same report (before issue 33: refused, "list events in time order").
+    let mut lines: Vec<&str> = csv.lines().skip(1).collect();
+    lines.reverse();
+    let reversed = dir.with_file_name("events-reversed.csv");
+    std::fs::write(&reversed, format!("name,t\n{}\n", lines.join("\n"))).unwrap();
+    let out = run(&[
+        "--events",
+        &p(&reversed),
+        "--event",
+        "alpha1",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(&json_doc(&out)["events"], ev);
     // CI: a missed event fails (exit 1).
     let out = run(&["--events", &p(&events), "--max-event-error", "1e-3"]);
     assert_eq!(out.status.code(), Some(1));
@@ -256,13 +271,11 @@ fn check_events_reports_one_missed_event_and_names_bad_lines() {
             "name,t\nomega1,0.5\nomega7,0.6\n",
             "line 3: unknown event 'omega7'",
         ),
+        // Events out of time order are read and sorted (issue 33); a time that is not finite
+        // is refused.
         (
-            "name,t\nomega1,0.5\nomega1,0.4\n",
-            "line 3: t = 0.4 is before",
-        ),
-        (
-            "{\"events\": [{\"name\": \"s1\", \"t\": 1}, {\"name\": \"s1\", \"t\": 0.5}]}",
-            "events[1]: t = 0.5",
+            "name,t\nomega1,0.5\nomega1,inf\n",
+            "line 3: the time is not a finite number",
         ),
     ] {
         let bad = dir.with_file_name("events-bad.txt");

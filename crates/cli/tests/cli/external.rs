@@ -147,6 +147,31 @@ fn a_failing_child_is_named_with_the_end_of_its_stderr() {
     assert!(err.contains("| ValueError: step too small"), "{err}");
 }
 
+/// stdout that is not one JSON document is named as such with the offending text: a stray
+/// line before the JSON (old: "line 1: the header lacks column(s) t, omega1, …", read as CSV)
+/// and a NaN inside it (old: "invalid JSON: … at line 1 column 47").
+#[test]
+fn a_stray_line_and_a_nan_are_named() {
+    let s = script(
+        "stray.sh",
+        "cat > /dev/null\necho 'step 1 of 100'\necho '{\"samples\": []}'",
+    );
+    let err = exec_fails(&s, &[]);
+    assert!(
+        err.contains("not one JSON document") && err.contains("\"step 1 of 100\""),
+        "{err}"
+    );
+    let s = script(
+        "nan.sh",
+        "cat > /dev/null\necho '{\"samples\": [{\"t\": 0, \"omega\": [NaN, 0, 0]}]}'",
+    );
+    let err = exec_fails(&s, &[]);
+    assert!(
+        err.contains("NaN at line 1") && err.contains("sample 0") && err.contains("\"omega\""),
+        "{err}"
+    );
+}
+
 #[test]
 fn garbage_and_short_answers_are_errors() {
     let s = script("garbage.sh", "echo 'hello, I am not JSON'");

@@ -41,8 +41,8 @@ impl Exec {
         let mut answered_dense = None;
         let (raw, stats) = if text.trim_start().starts_with('{') {
             // Read as a stream: only the samples asked for (and the dense ones) are kept.
-            let doc = AnswerDoc::read(stdout, times.len())
-                .map_err(|e| garbage(format!("invalid JSON: {e}")))?;
+            let doc =
+                AnswerDoc::read(stdout, times.len()).map_err(|e| garbage(json_error(text, &e)))?;
             if let Some(name) = &doc.name {
                 let name = name
                     .as_str()
@@ -95,6 +95,9 @@ impl Exec {
             }
             (samples.raw, stats)
         } else {
+            if let Some(why) = stray_lines(text) {
+                return Err(garbage(why));
+            }
             (parse_csv(text).map_err(garbage)?, (None, None, None))
         };
         if answered.is_some() {
@@ -207,6 +210,69 @@ fn parse_stats(v: Option<&Value>) -> Result<AnswerStats, String> {
     Ok((s.steps, s.rhs_evals, s.integration_seconds))
 }
 
+/// stdout that is a JSON document after other lines (a stray print): the lines before it, named.
+fn stray_lines(text: &str) -> Option<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let json = lines.iter().position(|l| l.trim_start().starts_with('{'))?;
+    let first = lines.iter().find(|l| !l.trim().is_empty()).copied()?;
+    let first: String = first.chars().take(80).collect();
+    Some(format!(
+        "stdout is not one JSON document: {json} line(s) before the JSON on line {} (the first: \
+         {first:?}); write notes and progress to stderr, only the answer to stdout",
+        json + 1
+    ))
+}
+
+/// An invalid JSON answer named by what is there: NaN and Infinity (not JSON) said as such,
+/// with the offending text, its line and column, and the sample index and field it is in.
+fn json_error(text: &str, e: &serde_json::Error) -> String {
+    let (line, column) = (e.line(), e.column());
+    // The byte offset of the error: its line's start plus the column (1-based).
+    let start: usize = text
+        .split_inclusive('\n')
+        .take(line.saturating_sub(1))
+        .map(str::len)
+        .sum();
+    let at = (start + column.saturating_sub(1)).min(text.len());
+    let at = (0..=at)
+        .rev()
+        .find(|&i| text.is_char_boundary(i))
+        .unwrap_or(0);
+    // The token where the parser stopped (it stops on its first character or just after).
+    let from = text[..at]
+        .rfind([',', ':', '[', '{', ' ', '\n'])
+        .map_or(0, |i| i + 1);
+    let token: String = text[from..]
+        .chars()
+        .take_while(|c| !matches!(c, ',' | ']' | '}' | '\n'))
+        .take(40)
+        .collect();
+    let before = &text[..from];
+    let field = before.rfind("\":").and_then(|end| {
+        before[..end]
+            .rfind('"')
+            .map(|q| before[q + 1..end].to_string())
+    });
+    let samples = before.find("\"samples\"");
+    let sample = samples.map(|s| before[s..].matches("\"t\"").count().saturating_sub(1));
+    let mut place = format!("line {line}, column {column}");
+    if let Some(k) = sample {
+        place.push_str(&format!(", sample {k}"));
+    }
+    if let Some(f) = field {
+        place.push_str(&format!(", field \"{f}\""));
+    }
+    let t = token.trim();
+    if ["NaN", "-NaN", "Infinity", "-Infinity", "inf", "-inf", "nan"].contains(&t) {
+        format!(
+            "{t} at {place}: NaN and Infinity are not JSON numbers (the integrator failed \
+             there, or its writer allows them: write finite numbers, or decimals as strings)"
+        )
+    } else {
+        format!("invalid JSON at {place}, at {t:?}: {e}")
+    }
+}
+
 /// The most bytes an answer of `samples` samples at `digits` digits may take: 1 MiB, plus per
 /// sample ten values of up to `digits` + 40 characters and 400 of keys and layout (pretty JSON),
 /// doubled. Far more than any honest answer; a bound on what an adapter can make us hold.
@@ -219,6 +285,34 @@ pub fn max_answer(samples: usize, digits: u32) -> usize {
 mod tests {
     use super::*;
     use serde_json::json;
+    /// A stray line before the JSON and a NaN inside it are named as such (old texts: "line 1:
+    /// the header lacks column(s) t, omega1, …" and "invalid JSON: … at line 1 column 47").
+    #[test]
+    fn stray_lines_and_nan_are_named() {
+        let why = stray_lines("progress 10%\n{\"samples\": []}\n").unwrap();
+        assert!(
+            why.contains("not one JSON document") && why.contains("\"progress 10%\""),
+            "{why}"
+        );
+        assert!(stray_lines("t,omega1\n0,1\n").is_none());
+        let text = r#"{"samples": [{"t": 0, "omega": [1, 2, 3]}, {"t": 1, "omega": [NaN, 2, 3]}]}"#;
+        let e = serde_json::from_str::<serde_json::Value>(text).unwrap_err();
+        let why = json_error(text, &e);
+        assert!(
+            why.starts_with("NaN at line 1")
+                && why.contains("sample 1")
+                && why.contains("field \"omega\""),
+            "{why}"
+        );
+        let text = "{\"samples\": [{\"t\": 0,\n \"alpha\": [Infinity]}]}";
+        let e = serde_json::from_str::<serde_json::Value>(text).unwrap_err();
+        let why = json_error(text, &e);
+        assert!(
+            why.starts_with("Infinity at line 2") && why.contains("\"alpha\""),
+            "{why}"
+        );
+    }
+
     /// Bidirectional controls and line separators are refused like control characters.
     #[test]
     fn versions_cannot_reorder_or_break_a_line() {

@@ -381,7 +381,7 @@ pub fn fit_order(steps: &[f64], errors: &[f64], round_off: &[f64]) -> Result<Ord
     let mut kept: Vec<(usize, usize, f64)> = Vec::new();
     for w in found {
         if let Some(prev) = kept.last() {
-            let noisy = slopes[w.1..prev.0].iter().any(|&s| s < 0.0);
+            let noisy = slopes[w.1..prev.0].iter().any(|&s| s <= -MIN_WINDOW_SLOPE);
             let above = pts[w.1 + 1..]
                 .iter()
                 .map(|p| p.e)
@@ -428,9 +428,9 @@ pub fn fit_order(steps: &[f64], errors: &[f64], round_off: &[f64]) -> Result<Ord
     let in_window = |k: usize| found.iter().any(|&(i, j, _)| (i..=j).contains(&k));
     let (top, top_m) = (found[0].1, found[0].2);
     let (bottom, bottom_m) = (found[found.len() - 1].0, found[found.len() - 1].2);
-    // Below the regimes, the largest step where the error grows as the step halves: from there
-    // down the errors are noise.
-    let noise_from = (0..bottom).rev().find(|&k| slopes[k] < 0.0);
+    // Below the regimes, the largest step where the error grows as the step halves (by more
+    // than √2: a slope ≤ −0.5): from there down the errors are noise.
+    let noise_from = (0..bottom).rev().find(|&k| slopes[k] <= -MIN_WINDOW_SLOPE);
     let mut floor: Option<Floor> = None;
     for (k, p) in pts.iter().enumerate() {
         if in_window(k) {
@@ -500,7 +500,7 @@ pub fn fit_order(steps: &[f64], errors: &[f64], round_off: &[f64]) -> Result<Ord
                      expected at this step ({:.2e}; local slope {s:.2} to the next larger step)",
                     p.e, p.r
                 ),
-                ExcludedKind::Noise if s < 0.0 => format!(
+                ExcludedKind::Noise if s <= -MIN_WINDOW_SLOPE => format!(
                     "noise: the error grows {:.2}× as the step halves (local slope {s:.2} to the \
                      next larger step), {ratio:.1e}× the round-off expected at this step",
                     p.e / pts[k + 1].e

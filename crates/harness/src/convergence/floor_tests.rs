@@ -172,6 +172,16 @@ fn a_wrong_weight_is_a_floor_above_round_off() {
         "{}",
         show(&fit, &rows)
     );
+    // A flat floor, not noise: its steps are "floor above round-off".
+    assert!(
+        fit.excluded.iter().all(|e| e.kind != ExcludedKind::Noise)
+            && fit
+                .excluded
+                .iter()
+                .any(|e| e.kind == ExcludedKind::FloorAboveRoundOff),
+        "{}",
+        show(&fit, &rows)
+    );
     let doubts = fit.doubts();
     assert!(
         doubts.len() == 1 && doubts[0].contains("above round-off"),

@@ -136,3 +136,29 @@ fn steps_are_checked_and_fitted_to_the_grid() {
     assert!(ConvergencePlan::new(case(2.0, 3), &[0.5, 0.5, 0.25]).is_err());
     assert!(ConvergencePlan::new(case(2.0, 3), &[0.5, -0.1, 0.25]).is_err());
 }
+
+/// No order for a Taylor method: refused with an order suggested (old text: "taylor-f64 at
+/// fixed steps needs a fixed order (--order P)"); the default sweep is 8 halvings from
+/// min(0.5, the sample spacing), and a plan of it fits rk4 at order 4.
+#[test]
+fn taylor_without_order_is_given_one_and_the_default_sweep_runs() {
+    let e = FixedStepMethod::new(MethodName::TaylorF64, None, 50).unwrap_err();
+    assert!(e.to_string().contains("try --order 8"), "{e}");
+    let e = FixedStepMethod::new(MethodName::TaylorDd, None, 50).unwrap_err();
+    assert!(e.to_string().contains("try --order 16"), "{e}");
+    let c = case(10.0, 11);
+    let steps = ConvergencePlan::default_steps(&c);
+    assert_eq!(steps, halvings(0.5, 8));
+    assert_eq!(
+        ConvergencePlan::default_steps(&case(1.0, 11)),
+        halvings(0.1, 8)
+    );
+    let plan = ConvergencePlan::new(c, &steps).unwrap();
+    let mut m = FixedStepMethod::new(MethodName::Rk4, None, 50).unwrap();
+    let report = convergence(&plan, &mut [&mut m]).unwrap();
+    assert!(
+        (report.fits[0].order - 4.0).abs() < 0.1,
+        "{:?}",
+        report.fits[0]
+    );
+}
