@@ -23,7 +23,7 @@ def test_convergence_is_the_cli_document(cli_json):
 
 @pytest.mark.parametrize("kwargs, name", [
     (dict(methods=["rk4"], steps=[0.5, 0.25]), "steps"),
-    (dict(methods=["taylor-f64"], steps=STEPS), "order"),
+    (dict(methods=["taylor-f64"], steps=STEPS), "methods/order"),
     (dict(methods=["rk4"], steps=STEPS, order=4), "order"),
     (dict(methods=["euler"], steps=STEPS), "methods"),
     (dict(methods=[], steps=STEPS), "methods"),

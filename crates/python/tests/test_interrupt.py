@@ -58,7 +58,7 @@ def test_the_gil_is_released_during_the_reference():
     time.sleep(0.05)
     try:
         start = time.monotonic()
-        rsts.Case.default().reference(np.linspace(0.0, 100.0, 20_000))
+        rsts.Case.default().reference(np.linspace(0.0, 100.0, 500_000))
         end = time.monotonic()
     finally:
         stop.set()
