@@ -75,7 +75,7 @@ def test_bad_cases_raise_the_cli_message(cli, bad, args):
     ([], None, "times: no times"),
     ([0.0, float("nan")], None, "times: element 1 is not a finite number (NaN)"),
     ([[0.0, 1.0]], None, "times: expected a 1-D array, got shape [1, 2]"),
-    (["x"], None, "times: expected real numbers"),
+    (["x"], None, "times: 'x' is not a number"),             # a str is a decimal, as on the CLI
     ([0.0], 17, "digits: must be between 18 and 10000 (without it: f64), got 17"),
 ])
 def test_reference_bad_input_raises_valueerror(times, digits, what):
