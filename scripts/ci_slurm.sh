@@ -50,11 +50,14 @@ kind, a_path, b_path = sys.argv[1:]
 a, b = (json.load(open(p)) for p in (a_path, b_path))
 TIMES = {"integration_seconds", "time_min", "time_median", "time_max", "wall_seconds",
          "time_p05", "time_p95", "timing"}
-def strip(v):
+# Provenance, not results: when the report was made and the shards a merge was made of.
+PROVENANCE = {"created", "parts"}
+def strip(v, top=True):
     if isinstance(v, dict):
-        return {k: strip(x) for k, x in v.items() if k not in TIMES}
+        return {k: strip(x, False) for k, x in v.items()
+                if k not in TIMES and not (top and k in PROVENANCE)}
     if isinstance(v, list):
-        return [strip(x) for x in v]
+        return [strip(x, False) for x in v]
     return v
 def no_time_regressions(r):
     if r.get("baseline"):
@@ -161,13 +164,13 @@ show_logs "$work/bench-${array}_*.log $work/merge-*.log"
 same_up_to_timings bench "$work/ensemble-merged.json" "$work/ensemble.json"
 
 # ---- d. ----
-step "d. the documented Slurm blocks: RSTS_EXAMPLES_NEEDING=slurm cargo test --release -p rsts-cli --test examples"
+step "d. the documented Slurm blocks: RSTS_EXAMPLES_NEEDING=slurm cargo test --release -p rsts-cli --test cli examples::"
 set +e
-RSTS_EXAMPLES_NEEDING=slurm cargo test --release -p rsts-cli --test examples -- \
-  every_documented_example_runs_as_written --nocapture >"$work/examples.log" 2>&1
+RSTS_EXAMPLES_NEEDING=slurm cargo test --release -p rsts-cli --test cli -- \
+  examples::every_documented_example_runs_as_written --nocapture >"$work/examples.log" 2>&1
 status=$?
 set -e
-grep -E '^(examples:|test every|SKIPPED|test result)' "$work/examples.log" || true
+grep -E '^(examples:|test examples::every|SKIPPED|test result)' "$work/examples.log" || true
 if [ "$status" -ne 0 ]; then
   tail -n 60 "$work/examples.log"
   fail "the examples test exited $status"
