@@ -35,21 +35,16 @@ impl std::error::Error for Interrupted {}
 /// [`Interrupted`].
 pub fn flow_error(e: impl Into<FlowError>) -> anyhow::Error {
     let e: FlowError = e.into();
-    if let FlowError::Interrupted(_) = e {
-        return Interrupted(e.to_string()).into();
+    match e {
+        FlowError::Interrupted(_) => return Interrupted(e.to_string()).into(),
+        // The output named as the option that gave it: `--svg out/x.svg: …`.
+        FlowError::Output { output, message } => return anyhow::anyhow!("--{output} {message}"),
+        _ => {}
     }
     let names = e.names();
     if names.is_empty() {
         anyhow::anyhow!("{e}")
     } else {
         anyhow::anyhow!("--{}: {e}", names.join("/--"))
-    }
-}
-
-/// [`flow_error`], an output's error prefixed with the option that names it (`--mcap PATH: …`).
-pub fn flow_error_at(e: FlowError, output: &str) -> anyhow::Error {
-    match e {
-        FlowError::Output(message) => anyhow::anyhow!("{output} {message}"),
-        e => flow_error(e),
     }
 }

@@ -12,7 +12,7 @@ use rsts_harness::{Observer, SampleRecord};
 
 use crate::output;
 
-pub use crate::failure::{flow_error_at as flow_error, Failed, Interrupted};
+pub use crate::failure::{flow_error, Failed, Interrupted};
 
 /// The progress bar of a run (drawn on stderr after a second, on a terminal) and its Ctrl-C:
 /// the first one sets the flag the flow polls (it stops after the current piece or sample and

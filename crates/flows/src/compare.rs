@@ -329,7 +329,10 @@ pub fn compare(
     check_finite_report(&report)?;
     if let Some(path) = &svg {
         compare_diagram::write_svg(path, &motion, &report, &series).map_err(|e| {
-            FlowError::Output(format!("{}: {}", path.display(), rsts_io::error_text(&e)))
+            FlowError::Output {
+                output: "svg",
+                message: format!("{}: {}", path.display(), rsts_io::error_text(&e)),
+            }
         })?;
     }
     let verdict = Verdict::from_reasons(

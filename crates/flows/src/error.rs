@@ -32,9 +32,12 @@ pub enum FlowError {
     /// The run was stopped; what was done is described.
     #[error("interrupted: {0}")]
     Interrupted(String),
-    /// An output could not be written (its path and why).
-    #[error("{0}")]
-    Output(String),
+    /// An output could not be written: the input naming it (`mcap`, `svg`), its path and why.
+    #[error("{output} {message}")]
+    Output {
+        output: &'static str,
+        message: String,
+    },
 }
 
 impl FlowError {
@@ -62,7 +65,7 @@ impl FlowError {
             FlowError::Harness(e) if e.is_failure() => ErrorKind::Failed,
             FlowError::Harness(_) => ErrorKind::BadInput,
             FlowError::Interrupted(_) => ErrorKind::Interrupted,
-            FlowError::Output(_) => ErrorKind::Failed,
+            FlowError::Output { .. } => ErrorKind::Failed,
         }
     }
 }
@@ -111,7 +114,10 @@ mod tests {
             FlowError::from(HarnessError::Integrator("died".into())),
             FlowError::from(HarnessError::Observer("stopped".into())),
             FlowError::from(DynamicsError::Integration("step size underflow".into())),
-            FlowError::Output("out.svg: disk full".into()),
+            FlowError::Output {
+                output: "svg",
+                message: "out.svg: disk full".into(),
+            },
         ] {
             assert_eq!(failed.kind(), ErrorKind::Failed, "{failed}");
             assert!(failed.names().is_empty(), "{failed}");

@@ -41,7 +41,10 @@ impl Mcap {
 
 /// An output error naming the path: `PATH: why`.
 fn output_error(path: &Path, e: &(dyn std::error::Error + 'static)) -> FlowError {
-    FlowError::Output(format!("{}: {}", path.display(), rsts_io::error_text(e)))
+    FlowError::Output {
+        output: "mcap",
+        message: format!("{}: {}", path.display(), rsts_io::error_text(e)),
+    }
 }
 
 /// Refuse a log of `samples` samples larger than [`MAX_OUTPUT_BYTES`] (naming `option`, the

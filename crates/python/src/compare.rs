@@ -332,7 +332,7 @@ pub(crate) fn flow_error(e: FlowError) -> PyErr {
         FlowError::Harness(h) => harness_error(h),
         FlowError::Input { names, message } => value_error(&names, message),
         FlowError::Interrupted(_) => pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string()),
-        FlowError::Output(_) => pyo3::exceptions::PyRuntimeError::new_err(e.to_string()),
+        FlowError::Output { .. } => pyo3::exceptions::PyRuntimeError::new_err(e.to_string()),
     }
 }
 

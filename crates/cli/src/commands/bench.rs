@@ -292,7 +292,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
         shown: false,
     };
     if let Some(k) = args.dense {
-        rsts_flows::compare::check_dense(k).map_err(|e| crate::watch::flow_error(e, ""))?;
+        rsts_flows::compare::check_dense(k).map_err(crate::failure::flow_error)?;
         if args.ensemble.is_some() {
             bail!("--dense: not with --ensemble (the dense check is one more run per row of one motion)");
         }

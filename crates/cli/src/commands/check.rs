@@ -182,7 +182,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let mut watch = Watch::new(None, 256);
     let outcome = check(request, &mut watch);
     watch.clear();
-    let outcome = outcome.map_err(|e| flow_error(e, "--mcap"))?;
+    let outcome = outcome.map_err(flow_error)?;
     let report = &outcome.report;
     let case = &report.case;
     if let Some(offset) = &report.start_offset {

@@ -135,7 +135,7 @@ pub fn run(args: Args, out: &mut dyn Write) -> anyhow::Result<()> {
     let mut watch = Watch::new(Some(args.samples as u64), 1);
     let outcome = compare(request, &mut watch);
     watch.clear();
-    let outcome = outcome.map_err(|e| flow_error(e, "--mcap"))?;
+    let outcome = outcome.map_err(flow_error)?;
     match args.format {
         Format::Json => output::write_json(out, &outcome)?,
         Format::Csv => output::write_records_csv(out, &[&outcome])?,
