@@ -293,5 +293,8 @@ fn svg_draws_the_errors_against_time_and_bad_paths_are_refused_before_work() {
     // A diagram that cannot be written after the run is named as --svg (was "--mcap /dev/full:
     // --svg /dev/full: …").
     let msg = err(&["--samples", "3", "--svg", "/dev/full"]);
-    assert!(msg.contains("--svg /dev/full") && !msg.contains("--mcap"), "{msg}");
+    assert!(
+        msg.contains("--svg /dev/full") && !msg.contains("--mcap"),
+        "{msg}"
+    );
 }
